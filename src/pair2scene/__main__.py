@@ -1,0 +1,5 @@
+import sys
+
+from pair2scene.cli import main
+
+sys.exit(main())

@@ -1,0 +1,98 @@
+"""The ``pair2scene`` command line. Thin: each command parses, calls one library function.
+
+User errors end in one line on stderr and exit code 2; a traceback means a bug.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pair2scene.errors import UserError
+
+app = typer.Typer(
+    name="pair2scene",
+    help="Dense, physically plausible 3D indoor scenes from learned pairwise placement rules.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+data_app = typer.Typer(help="Scene corpora: fetch them, inspect them.", no_args_is_help=True)
+app.add_typer(data_app, name="data")
+
+
+@data_app.command("fetch")
+def data_fetch(
+    source: Annotated[str, typer.Argument(help="What to fetch: ai2thor.")],
+    force: Annotated[bool, typer.Option(help="Download again even when cached.")] = False,
+) -> None:
+    """Download a source into the cache ($PAIR2SCENE_CACHE, default ~/.cache/pair2scene)."""
+    from pair2scene.data.fetch import fetch
+
+    path = fetch(source, force=force)
+    typer.echo(f"{source}: {path}")
+
+
+@data_app.command("stats")
+def data_stats(
+    source: Annotated[
+        str, typer.Argument(help="ai2thor, procthor:PATH (.jsonl.gz) or 3dfront:PATH.")
+    ],
+    split: Annotated[
+        str | None, typer.Option(help="train or val; both when omitted.")
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Count rooms, objects, categories and support edges of a source."""
+    from pair2scene.data.sources import load_source
+    from pair2scene.data.stats import corpus_stats, format_stats
+
+    corpus = load_source(source, split=split, progress=not as_json)
+    stats = corpus_stats(corpus, split=split)
+    typer.echo(json.dumps(stats, indent=1) if as_json else format_stats(stats))
+
+
+@app.command("validate")
+def validate(
+    files: Annotated[list[Path], typer.Argument(help="scene.json files to check.")],
+) -> None:
+    """Check scene.json files against the contract; the first bad one stops with exit 2."""
+    from pair2scene.io.scene_json import read_scene
+
+    for f in files:
+        scene = read_scene(f)
+        typer.echo(f"{f}: ok ({len(scene.objects)} objects, room {scene.room.type})")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Console entry point: maps user errors to one line and exit code 2."""
+    try:
+        app(args=argv, standalone_mode=False)
+    except UserError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return e.exit_code
+    except typer.Exit as e:
+        return e.exit_code
+    except (typer.Abort, KeyboardInterrupt):
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:
+        # Usage errors of the argument parser (click's or typer's own vendored copy,
+        # depending on the typer release): same one-line treatment.
+        if not (hasattr(e, "format_message") and hasattr(e, "exit_code")):
+            raise
+        if not e.format_message():  # bare command: help was already printed
+            return 2
+        ctx = getattr(e, "ctx", None)
+        hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+        print(f"error: {e.format_message()}{hint}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def run() -> None:
+    sys.exit(main())

@@ -1,0 +1,313 @@
+"""scene.json: the versioned file contract of architecture.md, with validation.
+
+Reading never raises anything but :class:`SceneFileError` for a bad file; its
+message is one line naming the file and the field (``objects[3].rotation``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pair2scene.categories import BY_NAME, UNKNOWN
+from pair2scene.errors import SceneFileError
+from pair2scene.io.atomic import atomic_write_text
+from pair2scene.scene.geometry import OrientedBox, is_rotation, polygon_area
+from pair2scene.scene.model import FLOOR, AssetRef, Opening, Room, Scene, SceneObject
+
+FORMAT = "pair2scene.scene"
+VERSION = 1
+DECIMALS = 6
+"""Floats are written with 6 decimals: micrometres, and stable across platforms."""
+MIN_FLOOR_AREA = 1e-4
+"""m^2; below this a floor polygon is degenerate (collinear or repeated points)."""
+
+
+# -- writing -------------------------------------------------------------------------
+def _r(x: Any) -> Any:
+    if isinstance(x, np.ndarray):
+        x = x.tolist()
+    if isinstance(x, (list, tuple)):
+        return [_r(v) for v in x]
+    if isinstance(x, (float, np.floating)):
+        v = round(float(x), DECIMALS)
+        return 0.0 if v == 0 else v  # no "-0.0" in files
+    return x
+
+
+def _opening_to_dict(o: Opening) -> dict:
+    return {"id": o.id, "p0": _r(o.p0), "p1": _r(o.p1), "z_min": _r(o.z_min), "z_max": _r(o.z_max)}
+
+
+def scene_to_dict(scene: Scene) -> dict:
+    """The JSON-ready dict of ``scene`` (architecture.md's scene.json)."""
+    objects = []
+    for o in scene.objects:
+        d = {
+            "id": o.id,
+            "category": o.category,
+            "center": _r(o.box.center),
+            "size": _r(o.box.size),
+            "rotation": _r(o.box.rotation),
+            "support": o.support,
+            "functional_anchor": o.functional_anchor,
+            "asset": o.asset.to_dict() if o.asset else None,
+        }
+        for key in ("source_label", "source_support", "part_of"):
+            if getattr(o, key) is not None:
+                d[key] = getattr(o, key)
+        objects.append(d)
+    room = scene.room
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "id": scene.id,
+        "source": scene.source,
+        "split": scene.split,
+        "room": {
+            "type": room.type,
+            "floor_polygon": _r(room.floor_polygon),
+            "height": _r(room.height),
+            "doors": [_opening_to_dict(d) for d in room.doors],
+            "windows": [_opening_to_dict(w) for w in room.windows],
+        },
+        "objects": objects,
+        "stats": scene.stats,
+    }
+
+
+_NUMBER_LIST = re.compile(r"\[\s*(-?[\d.eE+-]+(?:,\s*-?[\d.eE+-]+)*)\s*\]")
+
+
+def dumps_json(data: Any) -> str:
+    """Indented JSON with every list of numbers kept on one line (readable diffs)."""
+    text = json.dumps(data, indent=1, allow_nan=False)
+    return _NUMBER_LIST.sub(lambda m: "[" + re.sub(r"\s+", " ", m.group(1)) + "]", text) + "\n"
+
+
+def dumps_scene(scene: Scene) -> str:
+    return dumps_json(scene_to_dict(scene))
+
+
+def write_scene(scene: Scene, path: str | os.PathLike) -> Path:
+    """Write ``scene`` to ``path`` atomically (temporary file, then rename)."""
+    atomic_write_text(path, dumps_scene(scene))
+    return Path(path)
+
+
+# -- reading and validation ----------------------------------------------------------
+class _Check:
+    """Field-by-field validation that stops at the first problem, naming the field."""
+
+    def __init__(self, origin: str) -> None:
+        self.origin = origin
+
+    def fail(self, field: str, problem: str) -> SceneFileError:
+        return SceneFileError(self.origin, field, problem)
+
+    def obj(self, d: Any, field: str) -> dict:
+        if not isinstance(d, dict):
+            raise self.fail(field, f"must be an object, got {_kind(d)}")
+        return d
+
+    def req(self, d: dict, key: str, field: str) -> Any:
+        if key not in d:
+            raise self.fail(f"{field}.{key}" if field else key, "is missing")
+        return d[key]
+
+    def string(self, v: Any, field: str, nullable: bool = False) -> str | None:
+        if v is None and nullable:
+            return None
+        if not isinstance(v, str) or not v:
+            raise self.fail(field, f"must be a non-empty string, got {_kind(v)}")
+        return v
+
+    def number(self, v: Any, field: str, positive: bool = False) -> float:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise self.fail(field, f"must be a finite number, got {_kind(v)}")
+        if positive and v <= 0:
+            raise self.fail(field, f"must be > 0, got {v}")
+        return float(v)
+
+    def vector(self, v: Any, n: int, field: str, positive: bool = False) -> np.ndarray:
+        if not isinstance(v, list) or len(v) != n:
+            raise self.fail(field, f"must be a list of {n} numbers, got {_kind(v)}")
+        return np.array([self.number(x, f"{field}[{i}]", positive) for i, x in enumerate(v)])
+
+    def matrix(self, v: Any, field: str) -> np.ndarray:
+        if not isinstance(v, list) or len(v) != 3:
+            raise self.fail(field, f"must be a 3x3 list of rows, got {_kind(v)}")
+        m = np.stack([self.vector(row, 3, f"{field}[{i}]") for i, row in enumerate(v)])
+        if not is_rotation(m):
+            raise self.fail(field, "is not a rotation (orthonormal, determinant +1)")
+        return m
+
+
+def _kind(v: Any) -> str:
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "a boolean"
+    if isinstance(v, (int, float)):
+        return repr(v) if not math.isfinite(v) else "a number"
+    if isinstance(v, str):
+        return "a string" if v else "an empty string"
+    if isinstance(v, list):
+        return f"a list of {len(v)}"
+    if isinstance(v, dict):
+        return "an object"
+    return type(v).__name__
+
+
+def _opening(c: _Check, d: Any, kind: str, field: str) -> Opening:
+    c.obj(d, field)
+    p0 = c.vector(c.req(d, "p0", field), 2, f"{field}.p0")
+    p1 = c.vector(c.req(d, "p1", field), 2, f"{field}.p1")
+    z_min = c.number(d.get("z_min", 0.0), f"{field}.z_min")
+    z_max = c.number(d.get("z_max", 2.1), f"{field}.z_max")
+    if z_max <= z_min:
+        raise c.fail(f"{field}.z_max", f"must be above z_min ({z_min}), got {z_max}")
+    oid = c.string(d.get("id"), f"{field}.id", nullable=True)
+    return Opening(kind, tuple(p0), tuple(p1), z_min, z_max, oid)  # type: ignore[arg-type]
+
+
+def _room(c: _Check, d: Any) -> Room:
+    c.obj(d, "room")
+    rtype = c.string(c.req(d, "type", "room"), "room.type")
+    poly_raw = c.req(d, "floor_polygon", "room")
+    if not isinstance(poly_raw, list) or len(poly_raw) < 3:
+        raise c.fail("room.floor_polygon", f"must list at least 3 [x, y] points, got {_kind(poly_raw)}")
+    poly = np.stack([c.vector(p, 2, f"room.floor_polygon[{i}]") for i, p in enumerate(poly_raw)])
+    if abs(polygon_area(poly)) < MIN_FLOOR_AREA:
+        raise c.fail("room.floor_polygon", "has no area (collinear or repeated points)")
+    height = c.number(c.req(d, "height", "room"), "room.height", positive=True)
+    openings = {}
+    for key, kind in (("doors", "door"), ("windows", "window")):
+        raw = d.get(key, [])
+        if not isinstance(raw, list):
+            raise c.fail(f"room.{key}", f"must be a list, got {_kind(raw)}")
+        openings[key] = tuple(_opening(c, o, kind, f"room.{key}[{i}]") for i, o in enumerate(raw))
+    return Room(rtype, poly, height, openings["doors"], openings["windows"])
+
+
+def _asset(c: _Check, d: Any, field: str) -> AssetRef | None:
+    if d is None:
+        return None
+    c.obj(d, field)
+    source = c.string(c.req(d, "source", field), f"{field}.source")
+    aid = d.get("id")
+    if aid is not None and not isinstance(aid, str):
+        raise c.fail(f"{field}.id", f"must be a string or null, got {_kind(aid)}")
+    style = d.get("style")
+    if style is not None and (isinstance(style, bool) or not isinstance(style, int)):
+        raise c.fail(f"{field}.style", f"must be an integer or null, got {_kind(style)}")
+    return AssetRef(source, aid, style)
+
+
+def _object(c: _Check, d: Any, field: str) -> SceneObject:
+    c.obj(d, field)
+    oid = c.string(c.req(d, "id", field), f"{field}.id")
+    cat = c.string(c.req(d, "category", field), f"{field}.category")
+    if cat not in BY_NAME and cat != UNKNOWN:
+        raise c.fail(f"{field}.category", f"unknown category {cat!r}")
+    center = c.vector(c.req(d, "center", field), 3, f"{field}.center")
+    size = c.vector(c.req(d, "size", field), 3, f"{field}.size", positive=True)
+    rotation = c.matrix(c.req(d, "rotation", field), f"{field}.rotation")
+    opt = {}
+    for key in ("support", "functional_anchor", "source_label", "source_support", "part_of"):
+        opt[key] = c.string(d.get(key), f"{field}.{key}", nullable=True)
+    return SceneObject(
+        id=oid,  # type: ignore[arg-type]
+        category=cat,  # type: ignore[arg-type]
+        box=OrientedBox(center, size, rotation),
+        asset=_asset(c, d.get("asset"), f"{field}.asset"),
+        **opt,
+    )
+
+
+def _links(c: _Check, objects: list[SceneObject]) -> None:
+    ids = {o.id: i for i, o in enumerate(objects)}
+    for i, o in enumerate(objects):
+        for key in ("support", "functional_anchor", "part_of"):
+            ref = getattr(o, key)
+            if ref is None or (key == "support" and ref == FLOOR):
+                continue
+            if ref == o.id:
+                raise c.fail(f"objects[{i}].{key}", f"object {o.id!r} refers to itself")
+            if ref not in ids:
+                raise c.fail(f"objects[{i}].{key}", f"refers to unknown object {ref!r}")
+    parent = {o.id: o.support for o in objects}
+    for i, o in enumerate(objects):
+        seen, cur = {o.id}, o.support
+        while cur not in (None, FLOOR):
+            if cur in seen:
+                raise c.fail(f"objects[{i}].support", f"support cycle through {o.id!r}")
+            seen.add(cur)
+            cur = parent[cur]
+
+
+def scene_from_dict(d: Any, origin: str = "<scene>") -> Scene:
+    """Validate and convert a parsed scene.json; raises SceneFileError naming the field."""
+    c = _Check(origin)
+    c.obj(d, "(top level)")
+    fmt = c.req(d, "format", "")
+    if fmt != FORMAT:
+        raise c.fail("format", f"must be {FORMAT!r}, got {fmt!r}")
+    version = c.req(d, "version", "")
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise c.fail("version", f"must be an integer, got {_kind(version)}")
+    if version != VERSION:
+        raise c.fail("version", f"unsupported version {version} (this release reads {VERSION})")
+    room = _room(c, c.req(d, "room", ""))
+    raw = c.req(d, "objects", "")
+    if not isinstance(raw, list):
+        raise c.fail("objects", f"must be a list, got {_kind(raw)}")
+    objects, seen = [], set()
+    for i, od in enumerate(raw):
+        o = _object(c, od, f"objects[{i}]")
+        if o.id in seen:
+            raise c.fail(f"objects[{i}].id", f"duplicate id {o.id!r}")
+        if o.id == FLOOR:
+            raise c.fail(f"objects[{i}].id", f"{FLOOR!r} is reserved for the floor")
+        seen.add(o.id)
+        objects.append(o)
+    _links(c, objects)
+    stats = d.get("stats", {})
+    if stats is None:
+        stats = {}
+    c.obj(stats, "stats")
+    sid = c.string(d.get("id"), "id", nullable=True)
+    src = c.string(d.get("source"), "source", nullable=True)
+    split = c.string(d.get("split"), "split", nullable=True)
+    return Scene(id=sid or Path(origin).parent.name or "scene", room=room, objects=objects,
+                 source=src, split=split, stats=stats)
+
+
+def read_scene(path: str | os.PathLike) -> Scene:
+    """Read and validate a scene.json; any problem raises one SceneFileError."""
+    origin = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneFileError(origin, "(file)", "no such file") from None
+    except IsADirectoryError:
+        raise SceneFileError(origin, "(file)", "is a directory, not a scene.json") from None
+    except UnicodeDecodeError as e:
+        raise SceneFileError(origin, "(file)", f"not UTF-8 text (byte {e.start})") from None
+    except OSError as e:
+        raise SceneFileError(origin, "(file)", e.strerror or str(e)) from None
+    if not text.strip():
+        raise SceneFileError(origin, "(file)", "is empty")
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SceneFileError(origin, "(json)", f"{e.msg} at line {e.lineno} column {e.colno}") from None
+    except RecursionError:
+        raise SceneFileError(origin, "(json)", "nested too deeply") from None
+    return scene_from_dict(data, origin)

@@ -1,0 +1,156 @@
+"""Typed scene model: objects, rooms, scenes and relation tuples."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+import numpy as np
+
+from pair2scene.categories import SuperCategory, super_category
+from pair2scene.scene.geometry import OrientedBox, points_in_polygon, polygon_area
+
+FLOOR = "floor"
+"""Support id of the floor: the root of every support tree."""
+
+
+@dataclass(frozen=True)
+class AssetRef:
+    """Where an object's geometry comes from."""
+
+    source: str
+    """``procedural``, ``ai2thor``, ``3dfuture``, ``user``..."""
+    id: str | None = None
+    """The source's asset id (AI2-THOR assetId, 3D-FUTURE jid...)."""
+    style: int | None = None
+    """Variant index for procedural assets."""
+
+    def to_dict(self) -> dict:
+        return {"source": self.source, "id": self.id, "style": self.style}
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    id: str
+    category: str
+    """Canonical category name (pair2scene.categories)."""
+    box: OrientedBox
+    asset: AssetRef | None = None
+    support: str | None = None
+    """``floor``, the id of the supporting object, or None when not known yet."""
+    functional_anchor: str | None = None
+    source_label: str | None = None
+    """The label the source used, before mapping."""
+    source_support: str | None = None
+    """The support the source itself annotated (ground truth for curation checks)."""
+    part_of: str | None = None
+    """For parts (drawers, shelves of a unit): the object they belong to."""
+
+    @property
+    def super(self) -> SuperCategory:
+        return super_category(self.category)
+
+    def with_box(self, box: OrientedBox) -> SceneObject:
+        return replace(self, box=box)
+
+
+@dataclass(frozen=True)
+class Opening:
+    """A door or window: a segment of a wall seen from above, and its height range."""
+
+    kind: Literal["door", "window"]
+    p0: tuple[float, float]
+    p1: tuple[float, float]
+    z_min: float = 0.0
+    z_max: float = 2.1
+    id: str | None = None
+
+    @property
+    def width(self) -> float:
+        return float(np.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]))
+
+
+@dataclass(frozen=True)
+class Room:
+    type: str
+    """A RoomType value, or a free string for text-described rooms."""
+    floor_polygon: np.ndarray
+    """(N, 2) counter-clockwise, metres, floor at z = 0."""
+    height: float = 2.7
+    doors: tuple[Opening, ...] = ()
+    windows: tuple[Opening, ...] = ()
+
+    def __post_init__(self) -> None:
+        poly = np.array(self.floor_polygon, dtype=float)
+        if poly.ndim != 2 or poly.shape[1] != 2 or len(poly) < 3:
+            raise ValueError(f"floor_polygon must be (N>=3, 2), got {poly.shape}")
+        if polygon_area(poly) < 0:
+            poly = poly[::-1].copy()
+        poly.setflags(write=False)
+        object.__setattr__(self, "floor_polygon", poly)
+
+    @property
+    def area(self) -> float:
+        return polygon_area(self.floor_polygon)
+
+    @property
+    def bounds(self) -> OrientedBox:
+        """The floor's box: the room's xy bounds from z = 0 to the ceiling."""
+        lo, hi = self.floor_polygon.min(0), self.floor_polygon.max(0)
+        center = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, self.height / 2]
+        return OrientedBox(np.array(center), np.array([*(hi - lo), self.height]))
+
+    def contains_xy(self, points: np.ndarray) -> np.ndarray:
+        """(N,) bool: 2D points (N, 2) over the floor."""
+        return points_in_polygon(points, self.floor_polygon)
+
+
+@dataclass(frozen=True)
+class RelationTuple:
+    """``<dependent, support anchor, optional functional anchor>``, by object id."""
+
+    dependent: str
+    support: str
+    functional: str | None = None
+
+
+@dataclass
+class Scene:
+    id: str
+    room: Room
+    objects: list[SceneObject] = field(default_factory=list)
+    source: str | None = None
+    """``ai2thor``, ``procthor``, ``3dfront``, ``generated``..."""
+    split: str | None = None
+    stats: dict = field(default_factory=dict)
+    """Free-form per-scene figures (counts, timings, warnings); written to scene.json."""
+
+    def __post_init__(self) -> None:
+        ids = [o.id for o in self.objects]
+        if len(set(ids)) != len(ids):
+            dup = sorted({i for i in ids if ids.count(i) > 1})
+            raise ValueError(f"duplicate object ids: {dup}")
+
+    def by_id(self) -> dict[str, SceneObject]:
+        return {o.id: o for o in self.objects}
+
+    def get(self, object_id: str) -> SceneObject:
+        for o in self.objects:
+            if o.id == object_id:
+                return o
+        raise KeyError(object_id)
+
+    def children(self, support_id: str) -> list[SceneObject]:
+        return [o for o in self.objects if o.support == support_id]
+
+    def support_edges(self) -> list[tuple[str, str]]:
+        """(child, parent) for every object resting on another object (not the floor)."""
+        return [(o.id, o.support) for o in self.objects if o.support not in (None, FLOOR)]
+
+    def tuples(self) -> list[RelationTuple]:
+        """One relation tuple per object with a known support, in file order."""
+        return [
+            RelationTuple(o.id, o.support, o.functional_anchor)
+            for o in self.objects
+            if o.support is not None
+        ]
