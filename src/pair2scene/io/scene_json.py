@@ -25,16 +25,25 @@ FORMAT = "pair2scene.scene"
 VERSION = 1
 DECIMALS = 6
 """Floats are written with 6 decimals: micrometres, and stable across platforms."""
+MIN_OPENING_WIDTH = 1e-3
+"""m; a door or window narrower than this is a data error."""
 MIN_FLOOR_AREA = 1e-4
 """m^2; below this a floor polygon is degenerate (collinear or repeated points)."""
 
 
 # -- writing -------------------------------------------------------------------------
 def _r(x: Any) -> Any:
+    """JSON-ready copy: numpy arrays and scalars to Python, floats rounded."""
     if isinstance(x, np.ndarray):
         x = x.tolist()
+    if isinstance(x, dict):
+        return {str(k): _r(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
         return [_r(v) for v in x]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, np.integer):
+        return int(x)
     if isinstance(x, (float, np.floating)):
         v = round(float(x), DECIMALS)
         return 0.0 if v == 0 else v  # no "-0.0" in files
@@ -78,17 +87,24 @@ def scene_to_dict(scene: Scene) -> dict:
             "windows": [_opening_to_dict(w) for w in room.windows],
         },
         "objects": objects,
-        "stats": scene.stats,
+        "stats": _r(scene.stats),
     }
 
 
-_NUMBER_LIST = re.compile(r"\[\s*(-?[\d.eE+-]+(?:,\s*-?[\d.eE+-]+)*)\s*\]")
+# A JSON string (left as it is: its text may look like a number list) or a number list.
+_NUMBER_LIST = re.compile(r'"(?:[^"\\]|\\.)*"|\[\s*(-?[\d.eE+-]+(?:,\s*-?[\d.eE+-]+)*)\s*\]')
+
+
+def _one_line(m: re.Match) -> str:
+    if m.group(1) is None:
+        return m.group(0)
+    return "[" + re.sub(r"\s+", " ", m.group(1)) + "]"
 
 
 def dumps_json(data: Any) -> str:
     """Indented JSON with every list of numbers kept on one line (readable diffs)."""
     text = json.dumps(data, indent=1, allow_nan=False)
-    return _NUMBER_LIST.sub(lambda m: "[" + re.sub(r"\s+", " ", m.group(1)) + "]", text) + "\n"
+    return _NUMBER_LIST.sub(_one_line, text) + "\n"
 
 
 def dumps_scene(scene: Scene) -> str:
@@ -129,7 +145,7 @@ class _Check:
         return v
 
     def number(self, v: Any, field: str, positive: bool = False) -> float:
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not _finite(v):
             raise self.fail(field, f"must be a finite number, got {_kind(v)}")
         if positive and v <= 0:
             raise self.fail(field, f"must be > 0, got {v}")
@@ -149,11 +165,21 @@ class _Check:
         return m
 
 
+def _finite(v: int | float) -> bool:
+    """math.isfinite that also takes ints too large for a float (JSON allows them)."""
+    try:
+        return math.isfinite(v)
+    except OverflowError:
+        return False
+
+
 def _kind(v: Any) -> str:
     if v is None:
         return "null"
     if isinstance(v, bool):
         return "a boolean"
+    if isinstance(v, int) and not _finite(v):
+        return "an integer too large for a float"
     if isinstance(v, (int, float)):
         return repr(v) if not math.isfinite(v) else "a number"
     if isinstance(v, str):
@@ -171,6 +197,8 @@ def _opening(c: _Check, d: Any, kind: str, field: str) -> Opening:
     p1 = c.vector(c.req(d, "p1", field), 2, f"{field}.p1")
     z_min = c.number(d.get("z_min", 0.0), f"{field}.z_min")
     z_max = c.number(d.get("z_max", 2.1), f"{field}.z_max")
+    if np.hypot(*(p1 - p0)) < MIN_OPENING_WIDTH:
+        raise c.fail(f"{field}.p1", "must differ from p0 (an opening needs a width)")
     if z_max <= z_min:
         raise c.fail(f"{field}.z_max", f"must be above z_min ({z_min}), got {z_max}")
     oid = c.string(d.get("id"), f"{field}.id", nullable=True)
@@ -182,7 +210,9 @@ def _room(c: _Check, d: Any) -> Room:
     rtype = c.string(c.req(d, "type", "room"), "room.type")
     poly_raw = c.req(d, "floor_polygon", "room")
     if not isinstance(poly_raw, list) or len(poly_raw) < 3:
-        raise c.fail("room.floor_polygon", f"must list at least 3 [x, y] points, got {_kind(poly_raw)}")
+        raise c.fail(
+            "room.floor_polygon", f"must list at least 3 [x, y] points, got {_kind(poly_raw)}"
+        )
     poly = np.stack([c.vector(p, 2, f"room.floor_polygon[{i}]") for i, p in enumerate(poly_raw)])
     if abs(polygon_area(poly)) < MIN_FLOOR_AREA:
         raise c.fail("room.floor_polygon", "has no area (collinear or repeated points)")
@@ -285,8 +315,14 @@ def scene_from_dict(d: Any, origin: str = "<scene>") -> Scene:
     sid = c.string(d.get("id"), "id", nullable=True)
     src = c.string(d.get("source"), "source", nullable=True)
     split = c.string(d.get("split"), "split", nullable=True)
-    return Scene(id=sid or Path(origin).parent.name or "scene", room=room, objects=objects,
-                 source=src, split=split, stats=stats)
+    return Scene(
+        id=sid or Path(origin).parent.name or "scene",
+        room=room,
+        objects=objects,
+        source=src,
+        split=split,
+        stats=stats,
+    )
 
 
 def read_scene(path: str | os.PathLike) -> Scene:
@@ -307,7 +343,11 @@ def read_scene(path: str | os.PathLike) -> Scene:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as e:
-        raise SceneFileError(origin, "(json)", f"{e.msg} at line {e.lineno} column {e.colno}") from None
+        raise SceneFileError(
+            origin, "(json)", f"{e.msg} at line {e.lineno} column {e.colno}"
+        ) from None
     except RecursionError:
         raise SceneFileError(origin, "(json)", "nested too deeply") from None
+    except ValueError as e:  # e.g. an integer literal over Python's 4300-digit limit
+        raise SceneFileError(origin, "(json)", str(e).splitlines()[0]) from None
     return scene_from_dict(data, origin)

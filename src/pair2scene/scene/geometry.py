@@ -36,7 +36,7 @@ def yaw_to_matrix(yaw: ArrayLike) -> np.ndarray:
 
 
 def matrix_to_yaw(rotation: ArrayLike) -> np.ndarray:
-    """Heading of local +x in the world xy plane, in (-pi, pi].
+    """Heading of local +x in the world xy plane, in [-pi, pi].
 
     Exact inverse of :func:`yaw_to_matrix` for rotations about z; for tilted
     objects it is the heading of their projected x axis.
@@ -212,9 +212,9 @@ class OrientedBox:
         center = anchor.rotation.T @ (self.center - anchor.center) / scale
         return OrientedBox(center, self.size / scale, anchor.rotation.T @ self.rotation)
 
-    def from_frame_of(self, anchor: OrientedBox) -> OrientedBox:
+    def from_frame_of(self, anchor: OrientedBox, eps: float = 1e-9) -> OrientedBox:
         """Inverse of :meth:`in_frame_of`: a canonical-frame box back to the world."""
-        scale = anchor.half_size
+        scale = np.maximum(anchor.half_size, eps)
         center = anchor.rotation @ (self.center * scale) + anchor.center
         return OrientedBox(center, self.size * scale, anchor.rotation @ self.rotation)
 

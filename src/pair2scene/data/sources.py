@@ -1,0 +1,31 @@
+"""Source specs on the command line (``ai2thor``, ``procthor:PATH``, ``3dfront:PATH``)."""
+
+from __future__ import annotations
+
+from pair2scene.data.base import SPLITS, Corpus
+from pair2scene.errors import UserError
+
+SOURCE_FORMS = "ai2thor, procthor:PATH or 3dfront:PATH"
+
+
+def load_source(spec: str, split: str | None = None, progress: bool = False) -> Corpus:
+    """Load every scene of a source spec, or of one split of it."""
+    if split is not None and split not in SPLITS:
+        raise UserError(f"unknown split {split!r}: use {' or '.join(SPLITS)}")
+    kind, _, path = spec.partition(":")
+    kind = kind.strip().lower()
+    if kind == "ai2thor" and not path:
+        from pair2scene.data.ai2thor import load_ai2thor
+
+        return load_ai2thor(split=split, progress=progress)
+    if kind in ("procthor", "3dfront") and not path:
+        raise UserError(f"source {kind!r} needs a path: {kind}:PATH")
+    if kind == "procthor":
+        from pair2scene.data.procthor import load_procthor
+
+        return load_procthor(path, split=split, progress=progress)
+    if kind == "3dfront":
+        from pair2scene.data.front3d import load_front3d
+
+        return load_front3d(path, split=split, progress=progress)
+    raise UserError(f"unknown source {spec!r}: use {SOURCE_FORMS}")

@@ -1,0 +1,78 @@
+"""Command-line usage errors: one ``error:`` line on stderr, exit code 2, no traceback."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from pair2scene.cli import main
+
+USAGE_ERRORS = {
+    "missing-argument": (["validate"], "Missing argument"),
+    "unknown-option": (["validate", "--bogus", "x.json"], "No such option: --bogus"),
+    "unknown-command": (["frobnicate"], "No such command 'frobnicate'"),
+    "unknown-subcommand": (["data", "frobnicate"], "No such command 'frobnicate'"),
+    "unknown-global-option": (["--bogus"], "No such option: --bogus"),
+    "missing-source": (["data", "fetch"], "Missing argument"),
+}
+
+
+def run_cli(*args: str, tmp_path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "pair2scene", *args],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "PYTHONIOENCODING": "utf-8"},
+    )
+
+
+@pytest.mark.parametrize("argv, expected", USAGE_ERRORS.values(), ids=USAGE_ERRORS.keys())
+def test_usage_errors_in_process(argv, expected, capsys):
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("error: ")
+    assert expected in lines[0]
+    assert "--help" in lines[0]  # points at the help of the command that failed
+
+
+@pytest.mark.parametrize("name", ["missing-argument", "unknown-option", "unknown-command"], ids=str)
+def test_usage_errors_in_subprocess(name, tmp_path):
+    argv, expected = USAGE_ERRORS[name]
+    proc = run_cli(*argv, tmp_path=tmp_path)
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("error:")
+    assert expected in lines[0]
+    assert proc.stdout == ""
+
+
+def test_help_exits_0(tmp_path):
+    proc = run_cli("--help", tmp_path=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    assert "validate" in proc.stdout and "data" in proc.stdout
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["validate", "--help"], ["data", "--help"]], ids=str)
+def test_help_in_process(argv, capsys):
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    assert "Usage" in out
+    assert err == ""
+
+
+def test_bare_command_shows_help_and_exits_2(capsys):
+    assert main([]) == 2
+    out, err = capsys.readouterr()
+    assert "Usage" in out and "validate" in out
+    assert "Traceback" not in err
