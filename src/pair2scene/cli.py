@@ -42,9 +42,7 @@ def data_stats(
     source: Annotated[
         str, typer.Argument(help="ai2thor, procthor:PATH (.jsonl.gz) or 3dfront:PATH.")
     ],
-    split: Annotated[
-        str | None, typer.Option(help="train or val; both when omitted.")
-    ] = None,
+    split: Annotated[str | None, typer.Option(help="train or val; both when omitted.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Count rooms, objects, categories and support edges of a source."""

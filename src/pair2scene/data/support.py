@@ -129,7 +129,7 @@ def floor_by_height(objects: list[SceneObject], report: SourceReport) -> list[Sc
             and o.box.bottom < ON_FLOOR_M
             and o.super not in (SuperCategory.PART, SuperCategory.WALL_OBJECT)
         ):
-            report.warnings["no receptacle listed: on the floor by height"] += 1
+            report.warnings["no support annotation: on the floor by height"] += 1
             o = replace(o, support=FLOOR)
         out.append(o)
     return out
