@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-
 import pytest
 
+from clitools import run_cli
 from pair2scene.cli import main
 
 USAGE_ERRORS = {
@@ -18,17 +15,6 @@ USAGE_ERRORS = {
     "unknown-global-option": (["--bogus"], "No such option: --bogus"),
     "missing-source": (["data", "fetch"], "Missing argument"),
 }
-
-
-def run_cli(*args: str, tmp_path) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "pair2scene", *args],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        timeout=60,
-        env={**os.environ, "PYTHONIOENCODING": "utf-8"},
-    )
 
 
 @pytest.mark.parametrize("argv, expected", USAGE_ERRORS.values(), ids=USAGE_ERRORS.keys())
@@ -46,7 +32,7 @@ def test_usage_errors_in_process(argv, expected, capsys):
 @pytest.mark.parametrize("name", ["missing-argument", "unknown-option", "unknown-command"], ids=str)
 def test_usage_errors_in_subprocess(name, tmp_path):
     argv, expected = USAGE_ERRORS[name]
-    proc = run_cli(*argv, tmp_path=tmp_path)
+    proc = run_cli(*argv, cwd=tmp_path)
     assert proc.returncode == 2, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()
@@ -57,7 +43,7 @@ def test_usage_errors_in_subprocess(name, tmp_path):
 
 
 def test_help_exits_0(tmp_path):
-    proc = run_cli("--help", tmp_path=tmp_path)
+    proc = run_cli("--help", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
     assert "validate" in proc.stdout and "data" in proc.stdout

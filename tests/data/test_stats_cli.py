@@ -1,27 +1,17 @@
 """`pair2scene data stats` as a user runs it (subprocess, JSON on stdout)."""
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from clitools import run_cli
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "pair2scene", *args],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        timeout=300,
-    )
-
-
 def stats(*args: str) -> dict:
-    proc = run("data", "stats", *args, "--json")
+    proc = run_cli("data", "stats", *args, "--json")
     assert proc.returncode == 0, proc.stderr
     return json.loads(proc.stdout)
 
@@ -62,7 +52,7 @@ def test_procthor_train_reports_500_rooms(procthor_1k):
     ],
 )
 def test_bad_sources_give_one_line_and_exit_2(args, needle):
-    proc = run("data", "stats", *args)
+    proc = run_cli("data", "stats", *args)
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and needle in lines[0]

@@ -9,10 +9,7 @@ from __future__ import annotations
 import codecs
 import copy
 import json
-import os
 import re
-import subprocess
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from clitools import run_cli
 from pair2scene.cli import main
 from pair2scene.errors import SceneFileError, UserError
 from pair2scene.io import atomic, scene_json
@@ -519,17 +517,6 @@ def test_cli_validate_rejects_in_process(case, tmp_path, capsys):
     assert len(lines) == 1, err
     assert lines[0].startswith("error: ")
     check_message(lines[0].removeprefix("error: "), path, case.field)
-
-
-def run_cli(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "pair2scene", *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=60,
-        env={**os.environ, "PYTHONIOENCODING": "utf-8"},
-    )
 
 
 def test_cli_validate_rejects_in_subprocess(tmp_path):
