@@ -107,7 +107,9 @@ CATEGORIES: tuple[Category, ...] = (
     # small objects
     Category("television", SO, ("tv", "television set")),
     Category("laptop", SO, ("notebook computer",)),
-    Category("desktop_computer", SO, ("desktop", "computer", "monitor")),
+    Category("desktop_computer", SO, ("desktop", "computer", "pc")),
+    Category("monitor", SO, ("screen", "computer monitor", "display")),
+    Category("keyboard", SO, ("computer keyboard",)),
     Category("table_lamp", SO, ("desk lamp", "table lamp", "lamp")),
     Category("book", SO, ("books", "novel")),
     Category("pillow", SO, ("cushion",)),
