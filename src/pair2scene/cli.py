@@ -12,6 +12,7 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli_assets import assets_app
 from pair2scene.errors import UserError
 
 app = typer.Typer(
@@ -23,6 +24,7 @@ app = typer.Typer(
 )
 data_app = typer.Typer(help="Scene corpora: fetch them, inspect them.", no_args_is_help=True)
 app.add_typer(data_app, name="data")
+app.add_typer(assets_app, name="assets")
 
 
 @data_app.command("fetch")

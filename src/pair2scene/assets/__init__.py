@@ -1,6 +1,25 @@
-"""Procedural assets: meshes for every category, their parts, surfaces and point clouds."""
+"""Procedural assets: meshes for every category, their parts, surfaces and point clouds.
 
+``generate(category, size, rng)`` builds a procedural asset; ``AssetLibrary``
+retrieves from the generators, a user folder of meshes or 3D-FUTURE;
+``surfaces_of`` finds where things can rest; ``asset_point_cloud`` samples
+(and caches) the surface points the layout model reads.
+"""
+
+from pair2scene.assets.library import AssetLibrary
 from pair2scene.assets.mesh import Asset, Mesh, Part
-from pair2scene.assets.registry import generate, generators
+from pair2scene.assets.pointcloud import asset_point_cloud
+from pair2scene.assets.registry import generate
+from pair2scene.assets.surfaces import SupportSurface, support_surfaces, surfaces_of
 
-__all__ = ["Asset", "Mesh", "Part", "generate", "generators"]
+__all__ = [
+    "Asset",
+    "AssetLibrary",
+    "Mesh",
+    "Part",
+    "SupportSurface",
+    "asset_point_cloud",
+    "generate",
+    "support_surfaces",
+    "surfaces_of",
+]

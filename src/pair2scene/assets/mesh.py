@@ -91,8 +91,9 @@ class Mesh:
         return bool(np.all(self.vertices @ n.T - d <= tol))
 
     # -- transforms -------------------------------------------------------------
-    def transformed(self, rotation: ArrayLike | None = None,
-                    translation: ArrayLike | None = None) -> Mesh:
+    def transformed(
+        self, rotation: ArrayLike | None = None, translation: ArrayLike | None = None
+    ) -> Mesh:
         """Rotate (3, 3) then translate (3,)."""
         v = self.vertices
         if rotation is not None:
@@ -186,11 +187,18 @@ def _ring(rx: float, ry: float, z: float, segments: int) -> np.ndarray:
     return np.stack([rx * np.cos(a), ry * np.sin(a), np.full(segments, z)], axis=1)
 
 
-def frustum(center_bottom: ArrayLike, height: float, r_bottom: float | Sequence[float],
-            r_top: float | Sequence[float], segments: int = DEFAULT_SEGMENTS,
-            rotation: ArrayLike | None = None) -> Mesh:
+def frustum(
+    center_bottom: ArrayLike,
+    height: float,
+    r_bottom: float | Sequence[float],
+    r_top: float | Sequence[float],
+    segments: int = DEFAULT_SEGMENTS,
+    rotation: ArrayLike | None = None,
+) -> Mesh:
     """Elliptic frustum along +z from ``center_bottom``; radii (rx, ry) or one value.
-    A zero top radius gives a cone. Rotation is applied about ``center_bottom``."""
+    A zero top radius gives a cone. Rotation is applied about ``center_bottom``.
+    The two ends must have the same rx/ry aspect (or the top be a cone): otherwise
+    the side quads are not planar and the mesh is not convex; use :func:`hull`."""
     rb = np.broadcast_to(np.asarray(r_bottom, dtype=float), (2,))
     rt = np.broadcast_to(np.asarray(r_top, dtype=float), (2,))
     n = segments
@@ -212,15 +220,24 @@ def frustum(center_bottom: ArrayLike, height: float, r_bottom: float | Sequence[
     return Mesh(v, np.array(faces)).transformed(rotation, center_bottom)
 
 
-def cylinder(center: ArrayLike, radius: float | Sequence[float], height: float,
-             segments: int = DEFAULT_SEGMENTS, rotation: ArrayLike | None = None) -> Mesh:
+def cylinder(
+    center: ArrayLike,
+    radius: float | Sequence[float],
+    height: float,
+    segments: int = DEFAULT_SEGMENTS,
+    rotation: ArrayLike | None = None,
+) -> Mesh:
     """Cylinder along +z centred at ``center`` (before ``rotation`` about the centre)."""
     m = frustum((0.0, 0.0, -height / 2), height, radius, radius, segments)
     return m.transformed(rotation, center)
 
 
-def ellipsoid(center: ArrayLike, radii: float | Sequence[float], rings: int = 8,
-              segments: int = DEFAULT_SEGMENTS) -> Mesh:
+def ellipsoid(
+    center: ArrayLike,
+    radii: float | Sequence[float],
+    rings: int = 8,
+    segments: int = DEFAULT_SEGMENTS,
+) -> Mesh:
     """UV ellipsoid with semi-axes ``radii`` (3,)."""
     r = np.broadcast_to(np.asarray(radii, dtype=float), (3,))
     verts = [[0.0, 0.0, -1.0]]

@@ -10,8 +10,8 @@ import numpy as np
 
 from pair2scene.assets.mesh import Mesh
 
-LIGHT = np.array([0.35, -0.55, 0.75])
-"""Direction towards the light (world): from the front-left, above."""
+LIGHT = np.array([0.35, 0.55, 0.75])
+"""Direction towards the light (world): from the front (+y) right, above."""
 
 
 def view_rotation(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
@@ -29,9 +29,15 @@ def view_rotation(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
     return np.stack([right, up, d])
 
 
-def render_mesh(mesh: Mesh, size: int = 256, azimuth: float = 35.0, elevation: float = 30.0,
-                color: tuple[int, int, int] = (200, 170, 130),
-                background: tuple[int, int, int] = (255, 255, 255), margin: float = 0.08):
+def render_mesh(
+    mesh: Mesh,
+    size: int = 256,
+    azimuth: float = 35.0,
+    elevation: float = 30.0,
+    color: tuple[int, int, int] = (200, 170, 130),
+    background: tuple[int, int, int] = (255, 255, 255),
+    margin: float = 0.08,
+):
     """A PIL image (size x size) of ``mesh``, orthographic, fitted to the frame."""
     from PIL import Image, ImageDraw
 

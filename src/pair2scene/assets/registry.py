@@ -20,8 +20,9 @@ from pair2scene.errors import UserError
 MIN_SIZE_M = 1e-3
 """Smallest extent an asset is built with along any axis (a credit card's thickness)."""
 
-GeneratorFn = Callable[[np.ndarray, np.random.Generator, int, "Sequence[float] | None"],
-                       "list[Part]"]
+GeneratorFn = Callable[
+    [np.ndarray, np.random.Generator, int, "Sequence[float] | None"], "list[Part]"
+]
 """fn(size (3,), rng, style, support_heights) -> convex parts inside [-size/2, size/2].
 
 support_heights: heights above the box bottom (metres, in [0, size z]) at which
@@ -43,8 +44,9 @@ class Generator:
 REGISTRY: dict[str, Generator] = {}
 
 
-def register(*categories: str, variants: int, description: str = "",
-             fits_support_heights: bool = False) -> Callable[[GeneratorFn], GeneratorFn]:
+def register(
+    *categories: str, variants: int, description: str = "", fits_support_heights: bool = False
+) -> Callable[[GeneratorFn], GeneratorFn]:
     """Decorator: register ``fn`` as the generator of ``categories``."""
 
     def deco(fn: GeneratorFn) -> GeneratorFn:
@@ -87,9 +89,13 @@ def fallback_box(category: str, size: np.ndarray) -> Asset:
     return Asset(category, size, (Part("box", box((0, 0, 0), size)),), style=0, source="box")
 
 
-def generate(category: str, size: Sequence[float], rng: np.random.Generator | int | None = None,
-             style: int | None = None, support_heights: Sequence[float] | None = None
-             ) -> Asset:
+def generate(
+    category: str,
+    size: Sequence[float],
+    rng: np.random.Generator | int | None = None,
+    style: int | None = None,
+    support_heights: Sequence[float] | None = None,
+) -> Asset:
     """A procedural asset of ``category`` filling a box of ``size`` (3,) metres.
 
     rng : a numpy Generator or a seed; draws the style (when not given) and the

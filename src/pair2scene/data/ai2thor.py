@@ -9,7 +9,9 @@ size from the asset database (parts such as drawers have none: their size is
 unmixed from the AABB). Where AI2-THOR also gives oriented-box corner points
 and they disagree with that box (an asset whose bounding box is rotated inside
 its prefab, an open laptop), the box is refit to the corners, keeping the
-object's rotation, and the refit is counted in the report.
+object's rotation, and the refit is counted in the report. Then the frame is
+turned so that +y is the object's front where the asset is modelled facing
+another way (``pair2scene.data.front``, measured from these rooms).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import numpy as np
 from pair2scene.categories import AI2THOR_LABELS, LabelMapper, RoomType, is_structure
 from pair2scene.data import unity
 from pair2scene.data.base import Corpus, SourceReport
+from pair2scene.data.front import front_offset_deg, turn_front
 from pair2scene.data.support import (
     floor_by_height,
     resolve_part_hosts,
@@ -42,6 +45,8 @@ DEFAULT_HEIGHT_M = 2.5
 """AI2-THOR's metadata has no ceiling; iTHOR rooms are at least this high."""
 CEILING_CLEARANCE_M = 0.1
 EXTENT_FLOOR_MARGIN_M = 0.02
+FLOOR_CLIP_REPORT_M = 0.3
+"""Clipping the Floor box by more than this is counted in the report."""
 """Rooms without a Floor object: the floor is the objects' extent grown by this."""
 FLOOR_STANDING_TYPES = frozenset(
     {
@@ -176,19 +181,36 @@ def convert_room(
     assets: unity.AssetDatabase,
     mapper: LabelMapper,
     report: SourceReport,
+    correct_front: bool = True,
 ) -> Scene:
-    """One AI2-THOR room (its list of object records) -> Scene, floor moved to z = 0."""
+    """One AI2-THOR room (its list of object records) -> Scene, floor moved to z = 0.
+
+    correct_front : turn each box's frame so that +y is the object's front
+    (pair2scene.data.front); off only to measure the raw conversion.
+    """
+    # Walls are lined with windows, paintings, switches and furniture: the extent of
+    # everything but the floor approximates the walls. iTHOR's Floor object can run
+    # metres past them (FloorPlan212), so the floor is its box clipped to that extent.
+    others = [
+        c
+        for r in records
+        if r.get("objectType") != "Floor"
+        for c in r["axisAlignedBoundingBox"]["cornerPoints"]
+    ]
+    extent = _rectangle(others, margin=EXTENT_FLOOR_MARGIN_M) if others else None
     floors = [r for r in records if r.get("objectType") == "Floor"]
     if floors:
         polygon = _rectangle(floors[0]["axisAlignedBoundingBox"]["cornerPoints"])
-    else:
-        # RoboTHOR apartments list no Floor: their walls are lined with paintings,
-        # windows and furniture, so the extent of everything approximates the floor.
+        if extent is not None:
+            clipped = np.clip(polygon, extent.min(0), extent.max(0))
+            if np.abs(clipped - polygon).max() > FLOOR_CLIP_REPORT_M:
+                report.warnings["Floor object runs past the walls: clipped to the objects"] += 1
+            polygon = clipped
+    elif extent is not None:
         report.warnings["no Floor object: floor from the extent of all objects"] += 1
-        polygon = _rectangle(
-            [c for r in records for c in r["axisAlignedBoundingBox"]["cornerPoints"]],
-            margin=EXTENT_FLOOR_MARGIN_M,
-        )
+        polygon = extent
+    else:
+        raise UserError(f"{scene_id}: room has neither a Floor nor any object")
     lift = np.array([0.0, 0.0, floor_level(records)])
     windows: list[Opening] = []
     objects: list[SceneObject] = []
@@ -205,6 +227,9 @@ def convert_room(
             continue
         cb = convert_box(rec, assets)
         box = OrientedBox(cb.box.center - lift, cb.box.size, cb.box.rotation)
+        asset_id = rec.get("assetId") or None
+        if correct_front:
+            box = turn_front(box, front_offset_deg("ai2thor", cat, asset_id))
         top = max(top, box.top)
         if cat == "window":
             w = _window(rec, len(windows))
@@ -218,7 +243,7 @@ def convert_room(
         counts[cat] += 1
         source_ids[rec["objectId"]] = oid
         receptacles[oid] = list(rec.get("parentReceptacles") or [])
-        asset = AssetRef("ai2thor", rec.get("assetId") or None)
+        asset = AssetRef("ai2thor", asset_id)
         objects.append(SceneObject(oid, cat, box, asset, source_label=otype))
     objects = support_from_receptacles(objects, receptacles, source_ids, report)
     objects = resolve_part_hosts(objects)
@@ -229,12 +254,16 @@ def convert_room(
 
 
 def load_ai2thor(
-    databases: str | Path | None = None, split: str | None = None, progress: bool = False
+    databases: str | Path | None = None,
+    split: str | None = None,
+    progress: bool = False,
+    correct_front: bool = True,
 ) -> Corpus:
     """All 195 AI2-THOR rooms (or one split) as scenes.
 
     databases : folder holding ``ai2thor-object-metadata.json`` and
     ``asset-database.json``; default: the cache, fetched on first use.
+    correct_front : apply the measured front corrections (see convert_room).
     """
     from pair2scene.data.fetch import databases_dir
 
@@ -268,7 +297,9 @@ def load_ai2thor(
 
     for records, sid, rtype, room_split in track(jobs, "AI2-THOR rooms", enabled=progress):
         try:
-            scenes.append(convert_room(records, sid, rtype, room_split, assets, mapper, report))
+            scenes.append(
+                convert_room(records, sid, rtype, room_split, assets, mapper, report, correct_front)
+            )
         except (KeyError, TypeError, ValueError) as e:
             raise UserError(f"{meta_path}: {sid}: malformed object record ({e})") from None
     report.unknown_labels.update(mapper.unknown)

@@ -3,7 +3,8 @@
 Each room of a house becomes one scene. Object positions are box centres
 (Unity, y-up, left-handed), rotations Euler angles, sizes come from the asset
 database of the AI2-THOR wheel. Objects resting on furniture are nested as
-``children`` of it: that nesting is the source's support annotation.
+``children`` of it: that nesting is the source's support annotation. Frames
+follow the front convention measured in ``pair2scene.data.front``.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from pair2scene.categories import (
 )
 from pair2scene.data import unity
 from pair2scene.data.base import SPLITS, Corpus, SourceReport, stable_fraction
+from pair2scene.data.front import front_offset_deg, turn_front
 from pair2scene.data.support import ON_FLOOR_M
 from pair2scene.errors import UserError
 from pair2scene.scene.geometry import OrientedBox, points_in_polygon
@@ -97,8 +99,13 @@ def convert_house(
     assets: unity.AssetDatabase,
     mapper: LabelMapper,
     report: SourceReport,
+    correct_front: bool = True,
 ) -> list[Scene]:
-    """One ProcTHOR house -> one Scene per room."""
+    """One ProcTHOR house -> one Scene per room.
+
+    correct_front : turn each box's frame so that +y is the object's front
+    (pair2scene.data.front); off only to measure the raw conversion.
+    """
     rooms = house.get("rooms") or []
     polys = []
     for r in rooms:
@@ -164,6 +171,8 @@ def convert_house(
             box = OrientedBox(
                 unity.vec(rec["position"]), info.size, unity.rotation(rec["rotation"])
             )
+            if correct_front:
+                box = turn_front(box, front_offset_deg("procthor", cat, rec.get("assetId")))
             oid = f"{cat}_{counts[cat]}"
             counts[cat] += 1
             ids[rec.get("id")] = oid
@@ -202,10 +211,12 @@ def load_procthor(
     split: str | None = None,
     progress: bool = False,
     databases: str | Path | None = None,
+    correct_front: bool = True,
 ) -> Corpus:
     """Scenes of a ProcTHOR ``.jsonl.gz`` (or ``.jsonl``) file, or of every such file
     in a folder. A file named ``train``/``val`` gives its split; others are split
-    by a hash of the scene id."""
+    by a hash of the scene id. correct_front : apply the measured front
+    corrections (see convert_house)."""
     from pair2scene.data.fetch import databases_dir
     from pair2scene.progress import track
 
@@ -235,7 +246,11 @@ def load_procthor(
             if split is not None and split != house_split:
                 continue
             try:
-                scenes.extend(convert_house(house, house_id, house_split, assets, mapper, report))
+                scenes.extend(
+                    convert_house(
+                        house, house_id, house_split, assets, mapper, report, correct_front
+                    )
+                )
             except (KeyError, TypeError, ValueError, AttributeError) as e:
                 raise UserError(
                     f"{f}: line {i + 1}: malformed house ({type(e).__name__}: {e})"

@@ -1,1 +1,2376 @@
-"""(being written)"""
+"""Kitchen, tableware and food: small objects that rest on counters, tables and shelves.
+
+Every generator builds convex parts in metres inside [-size/2, size/2] (+z up,
++y front, +x right). Round things fill the box with elliptic sections (radii
+``size_x/2``, ``size_y/2``), so no generator has to assume a square footprint.
+
+Hollow vessels (bowl, mug, cup, pot, pan, vase, the ladle's bowl) are a floor
+disc plus a ring of wall sectors: each sector is a convex hexahedron swept
+between two angles, so the cavity stays empty for placement and physics while
+every part stays convex.
+
+Orientation conventions used by this family (object front is +y):
+
+- mug and pot handles lie along x (mug at +x, pot at both sides); a pan's long handle
+  points along the box's longer horizontal side: +x, or +y in a box deeper than wide;
+- kettle, spray bottle and soap pump point their spout / nozzle toward +y, a
+  kettle's side handle is at -y;
+- utensils (fork, knife, butter knife, spoon, spatula, ladle) lie with their
+  length along y, the working end (tines, blade, bowl) at +y and the handle at
+  -y. Flat utensils whose box is taller than wide (a knife resting on its
+  spine, as some datasets store it) are built with the blade plane vertical;
+- the microwave's door, window and panel face +y (the panel at -x, on the right of
+  a person facing it); so do the coffee machine's carafe / portafilter and the
+  toaster's lever.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from pair2scene.assets.mesh import (
+    Mesh,
+    Part,
+    box,
+    box_between,
+    cylinder,
+    ellipsoid,
+    frustum,
+    hull,
+    prism,
+)
+from pair2scene.assets.registry import register
+
+ROUND = 16
+"""Sides of a round body (bottles, fruit): reads as round in a 256 px view."""
+SECTORS = 12
+"""Wall sectors of a hollow vessel: round enough, and a modest part count (one part each)."""
+THIN = 8
+"""Sides of thin rods (stems, wicks, handles): they are a few pixels wide."""
+EDGE_RATIO = 1.2
+"""A utensil box taller than this times its width holds the utensil on its edge."""
+UPRIGHT_RATIO = 0.8
+"""A scrub brush box taller than this times its footprint holds a standing (toilet) brush."""
+
+# Hexahedron faces, counter-clockwise from outside, for corners in mesh.box's order
+# (x-, y-, z- first). ``_sector`` maps x to the radial direction (inner -> outer), y to the
+# sweep (angle a0 -> a1) and z to up: radial x sweep = +z, so the orientation holds.
+_HEX_FACES = np.array(
+    [
+        [0, 2, 1], [0, 3, 2],
+        [4, 5, 6], [4, 6, 7],
+        [0, 1, 5], [0, 5, 4],
+        [1, 2, 6], [1, 6, 5],
+        [2, 3, 7], [2, 7, 6],
+        [3, 0, 4], [3, 4, 7],
+    ]
+)  # fmt: skip
+
+
+# -- small geometry helpers ---------------------------------------------------------------
+def _rot_y(angle: float) -> np.ndarray:
+    """(3, 3) rotation about +y by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def _rot_z(angle: float) -> np.ndarray:
+    """(3, 3) rotation about +z by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _frame(direction: np.ndarray) -> np.ndarray:
+    """(3, 3) proper rotation whose third column is the unit ``direction`` (3,)."""
+    d = direction / np.linalg.norm(direction)
+    a = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(a, d)
+    e1 /= np.linalg.norm(e1)
+    return np.column_stack([e1, np.cross(d, e1), d])
+
+
+def _beam(
+    p0: Sequence[float],
+    p1: Sequence[float],
+    width: float,
+    thickness: float,
+    side: Sequence[float] = (0.0, 1.0, 0.0),
+) -> Mesh:
+    """Box from point p0 (3,) to p1 (3,): ``width`` along ``side`` (3,) (made orthogonal
+    to the beam), ``thickness`` across both."""
+    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    u = p1 - p0
+    length = float(np.linalg.norm(u))
+    u /= length
+    s = np.asarray(side, dtype=float)
+    s = s - (s @ u) * u
+    s /= np.linalg.norm(s)
+    rot = np.column_stack([u, s, np.cross(u, s)])
+    return box((p0 + p1) / 2, (length, width, thickness), rotation=rot)
+
+
+def _rod(
+    p0: Sequence[float],
+    p1: Sequence[float],
+    r0: float,
+    r1: float | None = None,
+    segments: int = THIN,
+) -> Mesh:
+    """Round rod (a frustum) from point p0 (3,) with radius r0 to p1 (3,) with radius r1."""
+    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    d = p1 - p0
+    return frustum(
+        p0, float(np.linalg.norm(d)), r0, r0 if r1 is None else r1, segments, rotation=_frame(d)
+    )
+
+
+def _lathe(
+    center: Sequence[float],
+    rx: float,
+    ry: float,
+    profile: Sequence[Sequence[float]],
+    segments: int = ROUND,
+) -> Mesh:
+    """Solid of revolution with elliptic sections around a vertical axis.
+
+    center : (2,) axis position (x, y). profile : (K, 2) rows (r, z), z increasing; r is a
+    fraction of the radii (rx, ry); r == 0 at an end makes an apex. The solid is convex
+    when r is a concave function of z (bulging profiles, tapers, domes)."""
+    cx, cy = float(center[0]), float(center[1])
+    n = segments
+    a = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    ux, uy = rx * np.cos(a), ry * np.sin(a)
+    verts: list[np.ndarray] = []
+    rings: list[np.ndarray | int] = []  # vertex indices of each level, or an apex index
+    count = 0
+    z_ends = (float(profile[0][1]), float(profile[-1][1]))
+    for r, z in profile:
+        if r <= 0.0:
+            verts.append(np.array([[cx, cy, z]]))
+            rings.append(count)
+            count += 1
+        else:
+            verts.append(np.stack([cx + r * ux, cy + r * uy, np.full(n, float(z))], axis=1))
+            rings.append(np.arange(count, count + n))
+            count += n
+    faces: list[list[int]] = []
+    for lo, hi in zip(rings[:-1], rings[1:]):
+        for i in range(n):
+            j = (i + 1) % n
+            if isinstance(lo, int):
+                faces.append([lo, hi[j], hi[i]])
+            elif isinstance(hi, int):
+                faces.append([lo[i], lo[j], hi])
+            else:
+                faces += [[lo[i], lo[j], hi[j]], [lo[i], hi[j], hi[i]]]
+    for end, z, flip in ((rings[0], z_ends[0], True), (rings[-1], z_ends[1], False)):
+        if isinstance(end, int):
+            continue
+        c = count
+        verts.append(np.array([[cx, cy, z]]))
+        count += 1
+        for i in range(n):
+            j = (i + 1) % n
+            faces.append([c, end[j], end[i]] if flip else [c, end[i], end[j]])
+    return Mesh(np.concatenate(verts), np.array(faces))
+
+
+def _sector(
+    center: Sequence[float], rx: float, ry: float, quad: np.ndarray, a0: float, a1: float
+) -> Mesh:
+    """Convex hexahedron sweeping a radial cross-section between angles a0 < a1.
+
+    quad : (4, 2) rows (r, z), counter-clockwise in the (r, z) plane: inner-low,
+    outer-low, outer-high, inner-high; r is a fraction of the radii (rx, ry). All six
+    faces are planar (chords between the two angles are parallel), so the piece is
+    exactly convex."""
+    d0 = np.array([rx * np.cos(a0), ry * np.sin(a0)])
+    d1 = np.array([rx * np.cos(a1), ry * np.sin(a1)])
+    order = ((0, d0), (1, d0), (1, d1), (0, d1), (3, d0), (2, d0), (2, d1), (3, d1))
+    corners = [
+        [center[0] + quad[k][0] * d[0], center[1] + quad[k][0] * d[1], quad[k][1]] for k, d in order
+    ]
+    return Mesh(np.array(corners), _HEX_FACES)
+
+
+def _shell(
+    prefix: str,
+    center: Sequence[float],
+    rx: float,
+    ry: float,
+    levels: Sequence[Sequence[float]],
+    thickness: float,
+    sectors: int = SECTORS,
+) -> list[Part]:
+    """A hollow wall of revolution as a ring of convex sectors per band.
+
+    levels : (K, 2) rows (r_outer, z) of the outer profile, r a fraction of (rx, ry);
+    thickness : wall thickness in metres (measured horizontally). Parts are named
+    ``{prefix}_{band}_{sector}``."""
+    t = thickness / min(rx, ry)
+    a = np.linspace(0.0, 2.0 * np.pi, sectors + 1)
+    parts = []
+    for k in range(len(levels) - 1):
+        (r0, z0), (r1, z1) = levels[k], levels[k + 1]
+        quad = np.array([[r0 - t, z0], [r0, z0], [r1, z1], [r1 - t, z1]])
+        for i in range(sectors):
+            parts.append(Part(f"{prefix}_{k}_{i}", _sector(center, rx, ry, quad, a[i], a[i + 1])))
+    return parts
+
+
+def _ring(
+    prefix: str,
+    center: Sequence[float],
+    rx: float,
+    ry: float,
+    quad: np.ndarray,
+    sectors: int = SECTORS,
+) -> list[Part]:
+    """A ring of sectors sweeping one (4, 2) cross-section quad (see ``_sector``)."""
+    a = np.linspace(0.0, 2.0 * np.pi, sectors + 1)
+    return [
+        Part(f"{prefix}_{i}", _sector(center, rx, ry, np.asarray(quad), a[i], a[i + 1]))
+        for i in range(sectors)
+    ]
+
+
+def _disc(
+    center: Sequence[float], rx: float, ry: float, z0: float, z1: float, segments: int = SECTORS
+) -> Mesh:
+    """Elliptic disc from z0 to z1 (its sides line up with a ``_shell`` of as many sectors)."""
+    return frustum((center[0], center[1], z0), z1 - z0, (rx, ry), (rx, ry), segments)
+
+
+def _rounded_rect(
+    x0: float,
+    x1: float,
+    y0: float,
+    y1: float,
+    radii: Sequence[float] | float,
+    corner_segments: int = 4,
+) -> np.ndarray:
+    """(N, 2) counter-clockwise convex outline of a rectangle with rounded corners.
+
+    radii : one radius or four, for corners (x1, y0), (x1, y1), (x0, y1), (x0, y0); 0 keeps
+    a corner sharp."""
+    r = np.broadcast_to(np.asarray(radii, dtype=float), (4,))
+    lim = 0.5 * min(x1 - x0, y1 - y0)
+    corners = ((x1, y0, -np.pi / 2), (x1, y1, 0.0), (x0, y1, np.pi / 2), (x0, y0, np.pi))
+    pts = []
+    for (cx, cy, start), rad in zip(corners, r):
+        rad = min(rad, lim)
+        sx = -1.0 if cx == x1 else 1.0
+        sy = -1.0 if cy == y1 else 1.0
+        if rad <= 0.0:
+            pts.append((cx, cy))
+            continue
+        ox, oy = cx + sx * rad, cy + sy * rad
+        for t in np.linspace(start, start + np.pi / 2, corner_segments + 1):
+            pts.append((ox + rad * np.cos(t), oy + rad * np.sin(t)))
+    p = np.array(pts)
+    # arcs meeting on a side shorter than two radii share a point: drop the repeat
+    keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > 1e-9
+    return p[keep]
+
+
+def _ellipse(
+    cx: float,
+    cy: float,
+    rx: float,
+    ry: float,
+    n: int = ROUND,
+    a0: float = 0.0,
+    a1: float = 2.0 * np.pi,
+    endpoint: bool = False,
+) -> np.ndarray:
+    """(n, 2) points on an ellipse arc from angle a0 to a1."""
+    a = np.linspace(a0, a1, n, endpoint=endpoint)
+    return np.stack([cx + rx * np.cos(a), cy + ry * np.sin(a)], axis=1)
+
+
+def _slab(points: Sequence[Sequence[float]], z0: float, z1: float) -> Mesh:
+    """Convex hull of a 2D outline (N, 2) extruded from z0 to z1 (outline order free)."""
+    p = np.asarray(points, dtype=float)
+    return hull(np.concatenate([np.c_[p, np.full(len(p), z0)], np.c_[p, np.full(len(p), z1)]]))
+
+
+def _wall(rx: float, ry: float, frac: float = 0.06, lo: float = 0.002, hi: float = 0.015) -> float:
+    """Wall thickness in metres for a vessel of radii rx, ry: ``frac`` of the smaller
+    radius, clamped so tiny cups stay solid and big pots do not get slabs."""
+    return float(np.clip(frac * min(rx, ry), lo, hi))
+
+
+def _rotate_parts(parts: list[Part], rotation: np.ndarray) -> list[Part]:
+    return [Part(p.name, p.mesh.transformed(rotation)) for p in parts]
+
+
+def _in_long_frame(
+    size: np.ndarray, build: Callable[[float, float, float, bool], list[Part]]
+) -> list[Part]:
+    """Call ``build(length, width, height, turned)`` with the length along the box's longer
+    horizontal axis (built along x); ``turned`` is True when it is turned onto y (the
+    build's +x then ends up at +y, so a feature at +x faces the front)."""
+    sx, sy, sz = (float(v) for v in size)
+    if sx >= sy:
+        return build(sx, sy, sz, False)
+    return _rotate_parts(build(sy, sx, sz, True), _rot_z(np.pi / 2))
+
+
+def _flat_utensil(
+    size: np.ndarray, build: Callable[[float, float, float], list[Part]]
+) -> list[Part]:
+    """Call ``build(width, length, thickness)`` (width along x, length along y, lying flat)
+    and turn the result onto its edge when the box is taller than wide."""
+    sx, sy, sz = (float(v) for v in size)
+    if sz > EDGE_RATIO * sx:
+        # the build's width (x) becomes the box height (z), its thickness the box width
+        return _rotate_parts(build(sz, sy, sx), _rot_y(np.pi / 2))
+    return build(sx, sy, sz)
+
+
+# -- vessels ------------------------------------------------------------------------------
+@register("bowl", variants=2)
+def bowl(size, rng, style, support_heights):
+    """A bowl, hollow: 0 round with a foot ring, 1 flared conical serving bowl."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    c = (0.0, 0.0)
+    t = _wall(rx, ry)
+    floor_t = float(np.clip(0.08 * h, 0.002, 0.012))
+    if style == 0:
+        foot_h = 0.07 * h
+        rb = rng.uniform(0.46, 0.52)
+        zb = z0 + foot_h
+        parts = [
+            Part(
+                "foot",
+                frustum(
+                    (0, 0, z0),
+                    foot_h,
+                    (0.85 * rb * rx, 0.85 * rb * ry),
+                    (rb * rx, rb * ry),
+                    SECTORS,
+                ),
+            ),
+            Part("floor", _disc(c, rb * rx, rb * ry, zb, zb + floor_t)),
+        ]
+        mid = rng.uniform(0.84, 0.9)
+        levels = [(rb, zb), (mid, zb + 0.42 * (zt - zb)), (1.0, zt)]
+    else:
+        rb = rng.uniform(0.55, 0.62)
+        parts = [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))]
+        levels = [(rb, z0), (1.0, zt)]
+    return parts + _shell("wall", c, rx, ry, levels, t)
+
+
+@register("cup", variants=2)
+def cup(size, rng, style, support_heights):
+    """A drinking cup or glass, hollow: 0 flared tumbler, 1 stemmed wine glass."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    c = (0.0, 0.0)
+    t = _wall(rx, ry, 0.07)
+    if style == 0:
+        rb = rng.uniform(0.74, 0.84)
+        # thick glass bottom, as tumblers have
+        floor_t = float(np.clip(0.1 * h, 0.004, 0.02))
+        return [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))] + _shell(
+            "wall", c, rx, ry, [(rb, z0), (1.0, zt)], t
+        )
+    foot_h = float(np.clip(0.03 * h, 0.002, 0.006))
+    z_bowl = z0 + rng.uniform(0.4, 0.48) * h
+    stem_r = 0.08 * min(rx, ry)
+    rb = 0.5
+    bowl_floor = 0.05 * h
+    parts = [
+        Part(
+            "foot", frustum((0, 0, z0), foot_h, (0.8 * rx, 0.8 * ry), (0.7 * rx, 0.7 * ry), ROUND)
+        ),
+        Part("stem", cylinder((0, 0, (z0 + z_bowl) / 2), stem_r, z_bowl - z0, THIN)),
+        # radii in proportion at both ends: a circle-to-ellipse frustum has warped sides
+        Part(
+            "bowl_base",
+            frustum(
+                (0, 0, z_bowl - bowl_floor),
+                bowl_floor,
+                (0.16 * rx, 0.16 * ry),
+                (rb * rx, rb * ry),
+                SECTORS,
+            ),
+        ),
+    ]
+    levels = [(rb, z_bowl), (1.0, z_bowl + 0.5 * (zt - z_bowl)), (0.9, zt)]
+    return parts + _shell("wall", c, rx, ry, levels, t)
+
+
+def _mug_handle(
+    x_in: float,
+    x_out: float,
+    z_lo: float,
+    z_hi: float,
+    width: float,
+    bar: float,
+    rounded: bool,
+    y: float = 0.0,
+    prefix: str = "handle",
+) -> list[Part]:
+    """A mug handle in the xz plane at ``y`` from the body (x_in) out to x_out, made of
+    boxes: top arm, grip, bottom arm (and two chamfer boxes when ``rounded``)."""
+    parts = _mug_handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded)
+    return [
+        Part(p.name.replace("handle", prefix, 1), p.mesh.transformed(None, (0, y, 0)))
+        for p in parts
+    ]
+
+
+def _mug_handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded):
+    """The boxes of ``_mug_handle`` at y = 0."""
+    hw = width / 2
+    if not rounded:
+        return [
+            Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out, hw, z_hi))),
+            Part("handle_grip", box_between((x_out - bar, -hw, z_lo), (x_out, hw, z_hi))),
+            Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out, hw, z_lo + bar))),
+        ]
+    ch = 0.45 * min(x_out - x_in, (z_hi - z_lo) / 2)
+    xm = x_out - bar / 2
+    return [
+        Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out - ch, hw, z_hi))),
+        Part(
+            "handle_corner_top",
+            _beam(
+                (x_out - ch - bar / 4, 0, z_hi - bar / 2), (xm, 0, z_hi - ch + bar / 4), width, bar
+            ),
+        ),
+        Part("handle_grip", box_between((x_out - bar, -hw, z_lo + ch), (x_out, hw, z_hi - ch))),
+        Part(
+            "handle_corner_bottom",
+            _beam(
+                (xm, 0, z_lo + ch - bar / 4), (x_out - ch - bar / 4, 0, z_lo + bar / 2), width, bar
+            ),
+        ),
+        Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out - ch, hw, z_lo + bar))),
+    ]
+
+
+@register("mug", variants=2)
+def mug(size, rng, style, support_heights):
+    """A mug, hollow, handle at +x: 0 straight with a rounded handle, 1 tapered with a
+    square handle."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    handle_w = float(np.clip(rng.uniform(0.24, 0.3) * sx, 0.01, 0.6 * sy))
+    rx, ry = (sx - handle_w) / 2, sy / 2
+    c = (-sx / 2 + rx, 0.0)
+    t = _wall(rx, ry, 0.08, 0.002, 0.012)
+    floor_t = float(np.clip(0.08 * h, 0.003, 0.015))
+    rb = 1.0 if style == 0 else rng.uniform(0.8, 0.86)
+    parts = [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))]
+    parts += _shell("wall", c, rx, ry, [(rb, z0), (1.0, zt)], t)
+    bar = float(np.clip(0.1 * h, 0.004, 0.015))
+    width = float(np.clip(0.16 * sy, 0.006, 0.025))
+    z_lo, z_hi = z0 + 0.2 * h, z0 + 0.84 * h
+    # the handle starts inside the wall at its height so the two overlap, never gap
+    r_at = rb + (1.0 - rb) * 0.5
+    x_in = c[0] + (r_at - 0.6 * t / rx) * rx
+    parts += _mug_handle(x_in, sx / 2, z_lo, z_hi, width, bar, rounded=style == 0)
+    return parts
+
+
+@register("plate", variants=2)
+def plate(size, rng, style, support_heights):
+    """A plate, shallow: flat base, floor and a rising rim. 0 dinner plate with a sloped
+    rim, 1 soup plate with a deeper well and a flat wide rim."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0 = sx / 2, sy / 2, -h / 2
+    c = (0.0, 0.0)
+    sectors = ROUND  # a plate is seen mostly from above: its outline must look round
+    foot_h = 0.2 * h
+    zf = z0 + foot_h
+    floor_t = 0.25 * h
+    rw = rng.uniform(0.6, 0.66) if style == 0 else rng.uniform(0.48, 0.54)
+    parts = [
+        Part(
+            "foot",
+            frustum(
+                (0, 0, z0),
+                foot_h,
+                (0.62 * rw * rx, 0.62 * rw * ry),
+                (0.7 * rw * rx, 0.7 * rw * ry),
+                sectors,
+            ),
+        ),
+        Part("floor", _disc(c, rw * rx, rw * ry, zf, zf + floor_t, sectors)),
+    ]
+    if style == 0:
+        quad = [[rw - 0.04, zf], [1.0, z0 + 0.75 * h], [1.0, h / 2], [rw - 0.04, zf + floor_t]]
+        return parts + _ring("rim", c, rx, ry, np.array(quad), sectors)
+    r_mid = rw + 0.12
+    well = [[rw - 0.04, zf], [r_mid, z0 + 0.72 * h], [r_mid, h / 2], [rw - 0.04, zf + floor_t]]
+    flat = [
+        [r_mid - 0.02, z0 + 0.72 * h],
+        [1.0, z0 + 0.78 * h],
+        [1.0, h / 2],
+        [r_mid - 0.02, h / 2],
+    ]
+    return (
+        parts
+        + _ring("well", c, rx, ry, np.array(well), sectors)
+        + _ring("rim", c, rx, ry, np.array(flat), sectors)
+    )
+
+
+@register("pot", variants=2)
+def pot(size, rng, style, support_heights):
+    """A cooking pot, hollow, with two handles at -x and +x: 0 tall stockpot with loop
+    handles, 1 low casserole with tab handles and a rounded bottom edge."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    hx = float(np.clip(rng.uniform(0.1, 0.13) * sx, 0.012, 0.07))
+    rx, ry = sx / 2 - hx, sy / 2
+    c = (0.0, 0.0)
+    t = _wall(rx, ry, 0.04, 0.002, 0.008)
+    floor_t = float(np.clip(0.05 * h, 0.003, 0.01))
+    bar = float(np.clip(0.07 * h, 0.004, 0.015))
+    if style == 0:
+        parts = [Part("floor", _disc(c, rx, ry, z0, z0 + floor_t))]
+        parts += _shell("wall", c, rx, ry, [(1.0, z0), (1.0, zt - 0.06 * h), (1.03, zt)], t)
+        zh = zt - 0.2 * h
+        span = float(np.clip(0.5 * ry, 0.02, 0.1))
+        for side, name in ((1.0, "right"), (-1.0, "left")):
+            x_in, x_out = side * (rx - t / 2), side * sx / 2
+            lo, hi = min(x_in, x_out), max(x_in, x_out)
+            parts += [
+                Part(
+                    f"handle_{name}_arm_0",
+                    box_between((lo, span / 2 - bar, zh - bar), (hi, span / 2, zh)),
+                ),
+                Part(
+                    f"handle_{name}_arm_1",
+                    box_between((lo, -span / 2, zh - bar), (hi, -span / 2 + bar, zh)),
+                ),
+                Part(
+                    f"handle_{name}_grip",
+                    box_between(
+                        (hi - bar if side > 0 else lo, -span / 2, zh - bar),
+                        (hi if side > 0 else lo + bar, span / 2, zh),
+                    ),
+                ),
+            ]
+        return parts
+    rb = 0.88
+    parts = [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))]
+    parts += _shell("wall", c, rx, ry, [(rb, z0), (1.0, z0 + 0.18 * h), (1.0, zt)], t)
+    zh = zt - 0.12 * h
+    span = float(np.clip(0.7 * ry, 0.03, 0.14))
+    for side, name in ((1.0, "right"), (-1.0, "left")):
+        x_in, x_out = side * (rx - t / 2), side * sx / 2
+        parts.append(
+            Part(
+                f"handle_{name}",
+                _slab(
+                    [
+                        (x_in, -span / 2),
+                        (x_in, span / 2),
+                        (x_out, 0.3 * span),
+                        (x_out, -0.3 * span),
+                    ],
+                    zh - bar,
+                    zh,
+                ),
+            )
+        )
+    return parts
+
+
+@register("pan", variants=2)
+def pan(size, rng, style, support_heights):
+    """A frying pan, hollow, its long handle along the longer horizontal side: toward +x,
+    or toward +y in a box deeper than wide (as AI2-THOR stores pans). 0 flared skillet
+    with a flat handle, 1 round-sided pan with a round handle."""
+    return _in_long_frame(size, lambda length, w, h, turned: _pan(length, w, h, rng, style))
+
+
+def _pan(sx, sy, h, rng, style):
+    """A pan with its handle toward +x in a box (sx, sy, h)."""
+    z0, zt = -h / 2, h / 2
+    handle_len = rng.uniform(0.4, 0.45) * sx
+    rx, ry = (sx - handle_len) / 2, sy / 2
+    c = (-sx / 2 + rx, 0.0)
+    t = _wall(rx, ry, 0.03, 0.002, 0.006)
+    body_h = rng.uniform(0.58, 0.66) * h
+    zb = z0 + body_h
+    floor_t = float(np.clip(0.12 * body_h, 0.002, 0.008))
+    grip = float(np.clip(0.09 * sy, 0.012, 0.035))
+    thick = float(np.clip(0.15 * h, 0.005, 0.016))
+    x_rim = c[0] + rx - t
+    if style == 0:
+        rb = rng.uniform(0.76, 0.82)
+        parts = [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))]
+        parts += _shell("wall", c, rx, ry, [(rb, z0), (1.0, zb)], t)
+        x_mid = x_rim + 0.22 * handle_len
+        parts += [
+            Part(
+                "handle_neck",
+                _beam(
+                    (x_rim - t, 0, zb - thick / 2),
+                    (x_mid, 0, zb + 0.2 * (zt - zb)),
+                    0.6 * grip,
+                    thick,
+                ),
+            ),
+            Part(
+                "handle",
+                _beam(
+                    (x_mid - thick / 2, 0, zb + 0.2 * (zt - zb)),
+                    (sx / 2, 0, zt - thick / 2),
+                    grip,
+                    thick,
+                ),
+            ),
+        ]
+        return parts
+    rb = rng.uniform(0.7, 0.76)
+    parts = [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))]
+    parts += _shell("wall", c, rx, ry, [(rb, z0), (0.94, z0 + 0.45 * body_h), (1.0, zb)], t)
+    r = float(np.clip(0.035 * sy, 0.004, 0.012))  # a round grip, thicker than the flat one
+    parts += [
+        Part(
+            "handle_neck",
+            _rod((x_rim - t, 0, zb - r), (x_rim + 0.15 * handle_len, 0, zb), 0.7 * r, 0.8 * r),
+        ),
+        Part(
+            "handle", _rod((x_rim + 0.14 * handle_len, 0, zb), (sx / 2 - r, 0, zt - r), r, 1.15 * r)
+        ),
+        Part("handle_end", ellipsoid((sx / 2 - r, 0, zt - r), 1.15 * r, 4, THIN)),
+    ]
+    return parts
+
+
+@register("kettle", variants=2)
+def kettle(size, rng, style, support_heights):
+    """A kettle, spout toward +y: 0 stovetop kettle with an arched top handle, 1 electric
+    jug kettle on a base with a side handle at -y."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    rx = sx / 2
+    if style == 0:
+        spout_len = rng.uniform(0.2, 0.26) * sy
+        ry = (sy - spout_len) / 2
+        cy = -sy / 2 + ry
+        hb = rng.uniform(0.66, 0.72) * h
+        zb = z0 + hb
+        profile = [(0.9, z0), (1.0, z0 + 0.3 * hb), (0.86, z0 + 0.72 * hb), (0.42, zb)]
+        parts = [
+            Part("body", _lathe((0, cy), rx, ry, profile)),
+            Part(
+                "lid_knob",
+                _lathe(
+                    (0, cy),
+                    0.12 * rx,
+                    0.12 * ry,
+                    [(1.0, zb - 0.01 * h), (1.0, zb + 0.05 * h), (0.6, zb + 0.08 * h)],
+                    THIN,
+                ),
+            ),
+        ]
+        r0 = 0.16 * min(rx, ry)
+        parts.append(
+            Part(
+                "spout",
+                _rod(
+                    (0, cy + 0.7 * ry, z0 + 0.3 * hb),
+                    (0, sy / 2 - 0.05 * r0, z0 + 0.82 * hb),
+                    r0,
+                    0.45 * r0,
+                ),
+            )
+        )
+        bar = float(np.clip(0.07 * h, 0.006, 0.02))
+        w = float(np.clip(0.12 * sx, 0.01, 0.03))
+        yb, yt = 0.34 * ry, 0.42 * ry
+        parts += [
+            Part(
+                "handle_post_back",
+                _beam(
+                    (0, cy - yb, zb - 0.06 * hb), (0, cy - yt, zt - bar / 2), w, bar, side=(1, 0, 0)
+                ),
+            ),
+            Part(
+                "handle_post_front",
+                _beam(
+                    (0, cy + yb, zb - 0.06 * hb), (0, cy + yt, zt - bar / 2), w, bar, side=(1, 0, 0)
+                ),
+            ),
+            Part(
+                "handle",
+                box_between((-w / 2, cy - yt - bar / 2, zt - bar), (w / 2, cy + yt + bar / 2, zt)),
+            ),
+        ]
+        return parts
+    handle_len = rng.uniform(0.18, 0.22) * sy
+    spout_len = 0.1 * sy
+    ry = (sy - handle_len - spout_len) / 2
+    cy = -sy / 2 + handle_len + ry
+    base_h = 0.07 * h
+    zb = zt - 0.04 * h
+    top = rng.uniform(0.84, 0.9)
+    parts = [
+        Part("base", frustum((0, cy, z0), base_h, (1.02 * rx, 1.02 * ry), (rx, ry), ROUND)),
+        Part(
+            "body", _lathe((0, cy), rx, ry, [(0.98, z0 + base_h), (1.0, z0 + 0.4 * h), (top, zb)])
+        ),
+        Part(
+            "lid",
+            _lathe(
+                (0, cy),
+                0.8 * top * rx,
+                0.8 * top * ry,
+                [(1.0, zb - 0.01 * h), (1.0, zb + 0.02 * h), (0.4, zt)],
+            ),
+        ),
+    ]
+    ys = cy + ry * top
+    parts.append(
+        Part(
+            "spout",
+            hull(
+                [
+                    (-0.3 * rx, ys - 0.12 * ry, zb),
+                    (0.3 * rx, ys - 0.12 * ry, zb),
+                    (-0.22 * rx, ys - 0.05 * ry, zb - 0.18 * h),
+                    (0.22 * rx, ys - 0.05 * ry, zb - 0.18 * h),
+                    (-0.1 * rx, sy / 2, zb + 0.01 * h),
+                    (0.1 * rx, sy / 2, zb + 0.01 * h),
+                ]
+            ),
+        )
+    )
+    bar = float(np.clip(0.08 * h, 0.008, 0.025))
+    w = float(np.clip(0.2 * sx, 0.012, 0.035))
+    y_in, y_out = cy - 0.85 * ry, -sy / 2
+    z_hi, z_lo = zb - 0.06 * h, z0 + 0.3 * h
+    parts += [
+        Part("handle_top", box_between((-w / 2, y_out, z_hi - bar), (w / 2, y_in, z_hi))),
+        Part("handle_grip", box_between((-w / 2, y_out, z_lo), (w / 2, y_out + bar, z_hi))),
+        Part("handle_bottom", box_between((-w / 2, y_out, z_lo), (w / 2, y_in, z_lo + bar))),
+    ]
+    return parts
+
+
+@register("vase", variants=2)
+def vase(size, rng, style, support_heights):
+    """A vase, hollow: 0 round belly with a neck and a flared lip, 1 tall tapered
+    cylinder with a thick base."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    c = (0.0, 0.0)
+    t = _wall(rx, ry, 0.06, 0.002, 0.012)
+    if style == 0:
+        rb = rng.uniform(0.55, 0.62)
+        neck = rng.uniform(0.48, 0.56)
+        levels = [(rb, z0), (1.0, z0 + 0.36 * h), (neck, z0 + 0.78 * h), (0.78, zt)]
+        floor_t = float(np.clip(0.05 * h, 0.003, 0.015))
+        return [Part("floor", _disc(c, rb * rx, rb * ry, z0, z0 + floor_t))] + _shell(
+            "wall", c, rx, ry, levels, t
+        )
+    rb = rng.uniform(0.72, 0.8)
+    base_h = 0.12 * h
+    levels = [(rb, z0), (0.86, z0 + 0.55 * h), (1.0, zt)]
+    return [Part("base", _disc(c, rb * rx, rb * ry, z0, z0 + base_h))] + _shell(
+        "wall", c, rx, ry, levels, t
+    )
+
+
+# -- bottles and dispensers ---------------------------------------------------------------
+def _octagon(rx: float, ry: float, chamfer: float, cx: float = 0.0, cy: float = 0.0) -> np.ndarray:
+    """(8, 2) rectangle outline with chamfered corners (chamfer as a fraction of the radii)."""
+    a, b = rx * (1 - chamfer), ry * (1 - chamfer)
+    return np.array(
+        [(rx, -b), (rx, b), (a, ry), (-a, ry), (-rx, b), (-rx, -b), (-a, -ry), (a, -ry)]
+    ) + (cx, cy)
+
+
+def _neck_and_cap(
+    rx: float,
+    ry: float,
+    z_neck: float,
+    z_cap: float,
+    zt: float,
+    neck: float,
+    cap: float,
+) -> list[Part]:
+    """Bottle neck (fraction ``neck`` of the radii) from z_neck to z_cap, cap to zt."""
+    return [
+        Part(
+            "neck",
+            _disc((0, 0), neck * rx, neck * ry, z_neck, z_cap + 0.01 * (zt - z_neck), ROUND),
+        ),
+        Part("cap", _disc((0, 0), cap * rx, cap * ry, z_cap, zt, ROUND)),
+    ]
+
+
+@register("bottle", variants=2)
+def bottle(size, rng, style, support_heights):
+    """A bottle with a screw cap: 0 round with a sloping shoulder, 1 square-ish with
+    chamfered edges and a short shoulder."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    neck = rng.uniform(0.3, 0.36)
+    z_cap = zt - 0.08 * h
+    if style == 0:
+        z_sh = z0 + rng.uniform(0.55, 0.62) * h
+        z_neck = z0 + 0.82 * h
+        body = _lathe(
+            (0, 0),
+            rx,
+            ry,
+            [
+                (0.9, z0),
+                (1.0, z0 + 0.03 * h),
+                (1.0, z_sh),
+                (0.75, z_sh + 0.55 * (z_neck - z_sh)),
+                (neck, z_neck),
+            ],
+        )
+        parts = [Part("body", body)]
+    else:
+        z_sh = z0 + rng.uniform(0.68, 0.72) * h
+        z_neck = z0 + 0.8 * h
+        outline = _octagon(rx, ry, 0.3)
+        top = _ellipse(0, 0, neck * rx, neck * ry)
+        parts = [
+            Part("body", prism(outline, z0, z_sh)),
+            Part(
+                "shoulder",
+                hull(
+                    np.concatenate(
+                        [
+                            np.c_[0.97 * outline, np.full(8, z_sh)],
+                            np.c_[top, np.full(ROUND, z_neck)],
+                        ]
+                    )
+                ),
+            ),
+        ]
+    return parts + _neck_and_cap(rx, ry, z_neck - 0.01 * h, z_cap, zt, neck, neck + 0.05)
+
+
+@register("wine_bottle", variants=2)
+def wine_bottle(size, rng, style, support_heights):
+    """A wine bottle with a long neck and a foil capsule: 0 high-shouldered (Bordeaux),
+    1 sloping-shouldered (Burgundy)."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    neck = rng.uniform(0.3, 0.34)
+    if style == 0:
+        z_sh = z0 + rng.uniform(0.58, 0.62) * h
+        z_neck = z_sh + 0.1 * h
+        profile = [
+            (0.95, z0),
+            (1.0, z0 + 0.02 * h),
+            (1.0, z_sh),
+            (0.88, z_sh + 0.035 * h),
+            (0.55, z_sh + 0.075 * h),
+            (neck, z_neck),
+        ]
+    else:
+        z_sh = z0 + rng.uniform(0.45, 0.5) * h
+        z_neck = z_sh + 0.25 * h
+        profile = [
+            (0.95, z0),
+            (1.0, z0 + 0.02 * h),
+            (1.0, z_sh),
+            (0.9, z_sh + 0.09 * h),
+            (0.62, z_sh + 0.18 * h),
+            (neck, z_neck),
+        ]
+    z_caps = zt - 0.13 * h
+    return [
+        Part("body", _lathe((0, 0), rx, ry, profile)),
+        Part(
+            "neck",
+            _lathe(
+                (0, 0), neck * rx, neck * ry, [(1.0, z_neck - 0.01 * h), (0.92, z_caps + 0.01 * h)]
+            ),
+        ),
+        Part(
+            "capsule",
+            _lathe(
+                (0, 0), neck * rx, neck * ry, [(0.98, z_caps), (1.06, zt - 0.025 * h), (1.0, zt)]
+            ),
+        ),
+    ]
+
+
+@register("spray_bottle", variants=2)
+def spray_bottle(size, rng, style, support_heights):
+    """A spray bottle with a trigger head, nozzle toward +y: 0 round body, 1 flat
+    chamfered body with a waist-high shoulder."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    rx = sx / 2
+    ry = rng.uniform(0.34, 0.38) * sy
+    cy = -sy / 2 + ry
+    z_sh = z0 + rng.uniform(0.58, 0.64) * h
+    z_col = z0 + 0.7 * h
+    if style == 0:
+        parts = [
+            Part(
+                "body",
+                _lathe(
+                    (0, cy), rx, ry, [(0.94, z0), (1.0, z0 + 0.03 * h), (1.0, z_sh), (0.45, z_col)]
+                ),
+            )
+        ]
+    else:
+        outline = _octagon(rx, ry, 0.35, 0.0, cy)
+        parts = [
+            Part("body", prism(outline, z0, z_sh)),
+            Part(
+                "shoulder",
+                hull(
+                    np.concatenate(
+                        [
+                            np.c_[outline, np.full(8, z_sh)],
+                            np.c_[_ellipse(0, cy, 0.45 * rx, 0.45 * ry), np.full(ROUND, z_col)],
+                        ]
+                    )
+                ),
+            ),
+        ]
+    collar_r = 0.4
+    z_head = z0 + 0.76 * h
+    parts.append(
+        Part(
+            "collar", _disc((0, cy), collar_r * rx, collar_r * ry, z_col - 0.01 * h, z_head, ROUND)
+        )
+    )
+    hw = 0.3 * sx
+    y_back = cy - 0.5 * ry
+    y_front = sy / 2 - 0.07 * sy
+    parts.append(
+        Part(
+            "head",
+            hull(
+                [
+                    (-hw, y_back, z_head),
+                    (hw, y_back, z_head),
+                    (-hw, y_back, zt),
+                    (hw, y_back, zt),
+                    (-0.8 * hw, y_front, zt - 0.08 * h),
+                    (0.8 * hw, y_front, zt - 0.08 * h),
+                    (-0.8 * hw, y_front, zt - 0.02 * h),
+                    (0.8 * hw, y_front, zt - 0.02 * h),
+                    (-0.9 * hw, cy + 0.3 * ry, z_head),
+                    (0.9 * hw, cy + 0.3 * ry, z_head),
+                ]
+            ),
+        )
+    )
+    nr = 0.035 * h
+    parts.append(
+        Part(
+            "nozzle",
+            _rod((0, y_front - 0.01 * sy, zt - 0.05 * h), (0, sy / 2, zt - 0.05 * h), nr, 0.8 * nr),
+        )
+    )
+    y_tr = y_front - 0.18 * sy
+    parts.append(
+        Part(
+            "trigger",
+            _beam(
+                (0, y_tr, zt - 0.09 * h),
+                (0, y_tr + 0.06 * sy, zt - 0.24 * h),
+                0.4 * sx,
+                0.05 * sy,
+                side=(1, 0, 0),
+            ),
+        )
+    )
+    return parts
+
+
+@register("soap_bottle", variants=2)
+def soap_bottle(size, rng, style, support_heights):
+    """A liquid soap bottle with a pump, nozzle toward +y: 0 round body, 1 rectangular
+    body."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    rx = sx / 2
+    nozzle = rng.uniform(0.18, 0.24) * sy
+    ry = (sy - nozzle) / 2
+    cy = -sy / 2 + ry
+    z_sh = z0 + rng.uniform(0.6, 0.66) * h
+    z_col = z0 + 0.72 * h
+    if style == 0:
+        parts = [
+            Part(
+                "body",
+                _lathe(
+                    (0, cy),
+                    rx,
+                    ry,
+                    [
+                        (0.92, z0),
+                        (1.0, z0 + 0.05 * h),
+                        (1.0, z_sh),
+                        (0.85, z_sh + 0.05 * h),
+                        (0.35, z_col),
+                    ],
+                ),
+            )
+        ]
+    else:
+        outline = _octagon(rx, ry, 0.12, 0.0, cy)
+        parts = [
+            Part("body", prism(outline, z0, z_sh)),
+            Part(
+                "shoulder",
+                hull(
+                    np.concatenate(
+                        [
+                            np.c_[outline, np.full(8, z_sh)],
+                            np.c_[_ellipse(0, cy, 0.35 * rx, 0.35 * ry), np.full(ROUND, z_col)],
+                        ]
+                    )
+                ),
+            ),
+        ]
+    cr = min(0.3 * rx, 0.3 * ry)
+    z_col_top = z0 + 0.78 * h
+    z_head = zt - 0.07 * h
+    parts += [
+        Part(
+            "collar",
+            cylinder(
+                (0, cy, (z_col + z_col_top) / 2 - 0.005 * h),
+                cr,
+                z_col_top - z_col + 0.01 * h,
+                ROUND,
+            ),
+        ),
+        Part(
+            "stem",
+            cylinder(
+                (0, cy, (z_col_top + z_head) / 2), 0.35 * cr, z_head - z_col_top + 0.01 * h, THIN
+            ),
+        ),
+        Part(
+            "pump_head",
+            _lathe(
+                (0, cy), 1.1 * cr, 1.1 * cr, [(1.0, z_head), (1.0, zt - 0.02 * h), (0.7, zt)], ROUND
+            ),
+        ),
+        Part(
+            "nozzle",
+            _beam(
+                (0, cy, zt - 0.035 * h),
+                (0, sy / 2, zt - 0.045 * h),
+                0.6 * cr,
+                0.03 * h,
+                side=(1, 0, 0),
+            ),
+        ),
+    ]
+    return parts
+
+
+@register("salt_shaker", variants=2)
+def salt_shaker(size, rng, style, support_heights):
+    """A salt shaker: 0 straight glass cylinder with a domed metal cap, 1 hexagonal
+    faceted body with a flat cap."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    z_cap = z0 + rng.uniform(0.66, 0.72) * h
+    if style == 0:
+        return [
+            Part("body", _lathe((0, 0), rx, ry, [(0.9, z0), (0.93, z0 + 0.03 * h), (0.93, z_cap)])),
+            Part(
+                "cap",
+                _lathe(
+                    (0, 0),
+                    rx,
+                    ry,
+                    [
+                        (1.0, z_cap - 0.02 * h),
+                        (1.0, z_cap + 0.12 * h),
+                        (0.85, zt - 0.08 * h),
+                        (0.5, zt),
+                    ],
+                ),
+            ),
+        ]
+    hexagon = _ellipse(0, 0, rx, ry, 6, np.pi / 6, 2 * np.pi + np.pi / 6)
+    return [
+        Part("body", prism(hexagon, z0, z_cap)),
+        Part("cap", _disc((0, 0), 0.82 * rx, 0.82 * ry, z_cap - 0.02 * h, zt - 0.04 * h, ROUND)),
+        Part("cap_top", _lathe((0, 0), 0.82 * rx, 0.82 * ry, [(1.0, zt - 0.045 * h), (0.85, zt)])),
+    ]
+
+
+@register("pepper_shaker", variants=2)
+def pepper_shaker(size, rng, style, support_heights):
+    """A pepper shaker: 0 tall waisted pepper mill with a knob, 1 round-bellied shaker
+    with a conical cap."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    if style == 0:
+        waist = rng.uniform(0.5, 0.58)
+        z1, z2, z3 = z0 + 0.1 * h, z0 + 0.45 * h, z0 + 0.76 * h
+        return [
+            Part("base", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.82 * rx, 0.82 * ry), ROUND)),
+            Part(
+                "body_lower",
+                frustum(
+                    (0, 0, z1), z2 - z1, (0.82 * rx, 0.82 * ry), (waist * rx, waist * ry), ROUND
+                ),
+            ),
+            Part(
+                "body_upper",
+                frustum(
+                    (0, 0, z2), z3 - z2, (waist * rx, waist * ry), (0.85 * rx, 0.85 * ry), ROUND
+                ),
+            ),
+            Part(
+                "crown",
+                _lathe((0, 0), rx, ry, [(0.85, z3), (0.75, z0 + 0.86 * h), (0.3, z0 + 0.92 * h)]),
+            ),
+            Part("knob", ellipsoid((0, 0, z0 + 0.95 * h), (0.2 * rx, 0.2 * ry, 0.05 * h), 6, THIN)),
+        ]
+    z_b = z0 + rng.uniform(0.66, 0.7) * h
+    return [
+        Part(
+            "body",
+            _lathe(
+                (0, 0),
+                rx,
+                ry,
+                [
+                    (0.6, z0),
+                    (0.9, z0 + 0.12 * h),
+                    (1.0, z0 + 0.35 * h),
+                    (0.88, z0 + 0.56 * h),
+                    (0.55, z_b),
+                ],
+            ),
+        ),
+        Part(
+            "cap",
+            _lathe((0, 0), rx, ry, [(0.58, z_b - 0.02 * h), (0.58, z_b + 0.08 * h), (0.12, zt)]),
+        ),
+    ]
+
+
+# -- utensils (lying flat, length along y, working end at +y) ----------------------------
+def _taper(
+    front: tuple[float, float, float, float],
+    back: tuple[float, float, float, float],
+    round_back: bool = False,
+) -> Mesh:
+    """A straight tapered slab (a utensil neck or handle), centred on x = 0.
+
+    front, back : (y, z_bottom, width, thickness) of the two end sections; the back end
+    is a half-disc when ``round_back``."""
+    y, z, w, t = back
+    if round_back:
+        arc = _ellipse(0, y + w / 2, w / 2, w / 2, 7, np.pi, 2 * np.pi, endpoint=True)
+        back_pts = [(x, yy, z) for x, yy in arc] + [(x, yy, z + t) for x, yy in arc]
+    else:
+        back_pts = [(sx * w / 2, y, zz) for sx in (-1, 1) for zz in (z, z + t)]
+    y, z, w, t = front
+    front_pts = [(sx * w / 2, y, zz) for sx in (-1, 1) for zz in (z, z + t)]
+    return hull(front_pts + back_pts)
+
+
+def _fork(w, length, t, rng, style):
+    z0, zt = -t / 2, t / 2
+    y0, yt = -length / 2, length / 2
+    plate_t = float(np.clip(0.22 * t, 0.0012, 0.004))
+    n = 4 if style == 0 else 3
+    y_tines = yt - rng.uniform(0.2, 0.24) * length
+    y_head = y_tines - 0.08 * length
+    y_neck = y_head - 0.1 * length
+    neck_w = 0.2 * w
+    gap_frac = 0.7 if style == 0 else 1.0
+    tw = w / (n + (n - 1) * gap_frac)
+    parts = [
+        Part(
+            f"tine_{i}",
+            box_between(
+                (-w / 2 + i * tw * (1 + gap_frac), y_tines - 0.002, z0),
+                (-w / 2 + i * tw * (1 + gap_frac) + tw, yt, z0 + plate_t),
+            ),
+        )
+        for i in range(n)
+    ]
+    z_neck = z0 + 0.45 * (t - plate_t)
+    parts += [
+        Part(
+            "head",
+            _slab(
+                [(-w / 2, y_tines), (w / 2, y_tines), (neck_w / 2, y_head), (-neck_w / 2, y_head)],
+                z0,
+                z0 + plate_t,
+            ),
+        ),
+        Part(
+            "neck",
+            _taper((y_head + 0.002, z0, neck_w, plate_t), (y_neck, z_neck, 0.8 * neck_w, plate_t)),
+        ),
+        Part(
+            "handle",
+            _taper(
+                (y_neck + 0.002, z_neck, 0.8 * neck_w, plate_t),
+                (y0, zt - plate_t, (0.55 if style == 0 else 0.42) * w, plate_t),
+                round_back=style == 0,
+            ),
+        ),
+    ]
+    return parts
+
+
+@register("fork", variants=2)
+def fork(size, rng, style, support_heights):
+    """A table fork lying flat, tines toward +y: 0 four tines and a rounded handle,
+    1 three tines and a narrow square-ended handle."""
+    return _flat_utensil(size, lambda w, length, t: _fork(w, length, t, rng, style))
+
+
+def _knife(w, length, t, rng, style, butter):
+    y0, yt = -length / 2, length / 2
+    handle_len = (rng.uniform(0.5, 0.56) if butter else rng.uniform(0.36, 0.42)) * length
+    yb = y0 + handle_len
+    blade_t = float(np.clip(0.15 * t, 0.0008, 0.003))
+    bz0, bz1 = -blade_t / 2, blade_t / 2
+    lb = yt - yb
+    if butter:
+        bw = 0.85 * w
+        # rounded blunt tip; the edge (-x) is straight, the blade widens a little to the tip
+        tip = _ellipse(0, yt - bw / 2, bw / 2, bw / 2, 8, 0.0, np.pi, endpoint=True)
+        blade = [(-bw / 2, yb), (0.3 * bw, yb), *tip.tolist()]
+        handle_w = 0.8 * w
+        hx = 0.0
+    elif style == 0:
+        # chef's knife: straight spine at +x, curved edge rising to the tip
+        curve = _ellipse(w / 2, yb + 0.45 * lb, w, 0.55 * lb, 8, np.pi, np.pi / 2, endpoint=True)
+        blade = [(w / 2, yb), (-w / 2, yb), *curve.tolist()]
+        handle_w = 0.42 * w
+        hx = w / 2 - handle_w / 2 - 0.1 * w
+    else:
+        # bread knife: parallel edges and a rounded tip
+        tip = _ellipse(0, yt - w / 2, w / 2, w / 2, 8, 0.0, np.pi, endpoint=True)
+        blade = [(-w / 2, yb), (w / 2, yb), *tip.tolist()]
+        handle_w = 0.75 * w
+        hx = 0.0
+    parts = [Part("blade", _slab(blade, bz0, bz1))]
+    ht = t if not butter else max(0.5 * t, 2 * blade_t)
+    hz = (-t / 2, -t / 2 + ht) if butter else (-t / 2, t / 2)
+    round_end = butter or style == 0
+    outline = _rounded_rect(
+        hx - handle_w / 2,
+        hx + handle_w / 2,
+        y0,
+        yb,
+        (0.0, 0.0, 0.45 * handle_w, 0.45 * handle_w) if round_end else 0.15 * handle_w,
+    )
+    parts.append(Part("handle", prism(outline, *hz)))
+    if butter and style == 1:
+        # a bulb at the end of the handle, the classic table-knife look
+        parts.append(
+            Part(
+                "handle_end",
+                _slab(_ellipse(0, y0 + 0.6 * w, w / 2 * 1.0, 0.6 * w, 12), hz[0], hz[1] + 0.3 * ht),
+            )
+        )
+    if not butter:
+        parts.append(
+            Part(
+                "bolster",
+                box_between(
+                    (hx - 0.55 * handle_w, yb - 0.02 * length, -0.4 * t),
+                    (hx + 0.55 * handle_w, yb + 0.01 * length, 0.4 * t),
+                ),
+            )
+        )
+    return parts
+
+
+@register("knife", variants=2)
+def knife(size, rng, style, support_heights):
+    """A kitchen knife lying flat, blade toward +y: 0 chef's knife with a pointed curved
+    blade, 1 bread knife with a straight blade and a rounded tip."""
+    return _flat_utensil(size, lambda w, length, t: _knife(w, length, t, rng, style, False))
+
+
+@register("butter_knife", variants=2)
+def butter_knife(size, rng, style, support_heights):
+    """A table (butter) knife lying flat, rounded blade toward +y: 0 plain handle,
+    1 handle with a bulb end."""
+    return _flat_utensil(size, lambda w, length, t: _knife(w, length, t, rng, style, True))
+
+
+def _spoon(w, length, t, rng, style):
+    z0, zt = -t / 2, t / 2
+    y0, yt = -length / 2, length / 2
+    plate_t = float(np.clip(0.2 * t, 0.0012, 0.004))
+    if style == 0:
+        bowl_len = rng.uniform(0.3, 0.34) * length
+    else:
+        bowl_len = min(1.15 * w, rng.uniform(0.24, 0.28) * length)
+    by = yt - bowl_len / 2
+    depth = rng.uniform(0.55, 0.65) * t
+    bowl = _lathe(
+        (0, by), w / 2, bowl_len / 2, [(0.45, z0), (0.8, z0 + 0.45 * depth), (1.0, z0 + depth)]
+    )
+    neck_w = 0.18 * w
+    y_bowl = by - 0.42 * bowl_len
+    y_neck = y_bowl - 0.14 * length
+    z_neck = z0 + 0.5 * (t - plate_t)
+    return [
+        Part("bowl", bowl),
+        Part(
+            "neck",
+            _taper(
+                (y_bowl, z0 + depth - plate_t, neck_w, plate_t),
+                (y_neck, z_neck, 0.7 * neck_w, plate_t),
+            ),
+        ),
+        Part(
+            "handle",
+            _taper(
+                (y_neck + 0.002, z_neck, 0.7 * neck_w, plate_t),
+                (y0, zt - plate_t, (0.5 if style == 0 else 0.38) * w, plate_t),
+                round_back=True,
+            ),
+        ),
+    ]
+
+
+@register("spoon", variants=2)
+def spoon(size, rng, style, support_heights):
+    """A spoon lying flat, bowl toward +y: 0 tablespoon with an oval bowl, 1 soup spoon
+    with a round bowl and a slimmer handle."""
+    return _flat_utensil(size, lambda w, length, t: _spoon(w, length, t, rng, style))
+
+
+def _spatula(w, length, t, rng, style):
+    z0, zt = -t / 2, t / 2
+    y0, yt = -length / 2, length / 2
+    blade_t = float(np.clip(0.15 * t, 0.001, 0.004))
+    blade_len = rng.uniform(0.3, 0.34) * length
+    yb = yt - blade_len
+    parts = []
+    if style == 0:
+        # slotted turner: rails and bars with open slots between them
+        n = 5
+        sw = w / (2 * n - 1)
+        bar = 0.16 * blade_len
+        parts.append(
+            Part(
+                "blade_back",
+                _slab(
+                    [
+                        (-0.85 * w / 2, yb),
+                        (0.85 * w / 2, yb),
+                        (w / 2, yb + bar),
+                        (-w / 2, yb + bar),
+                    ],
+                    z0,
+                    z0 + blade_t,
+                ),
+            )
+        )
+        parts.append(
+            Part(
+                "blade_front", box_between((-w / 2, yt - 0.6 * bar, z0), (w / 2, yt, z0 + blade_t))
+            )
+        )
+        for i in range(n):
+            x = -w / 2 + 2 * i * sw
+            parts.append(
+                Part(
+                    f"blade_strip_{i}",
+                    box_between(
+                        (x, yb + bar - 0.001, z0), (x + sw, yt - 0.6 * bar + 0.001, z0 + blade_t)
+                    ),
+                )
+            )
+    else:
+        outline = _rounded_rect(
+            -w / 2, w / 2, yb + 0.2 * blade_len, yt, (0.25 * w, 0.25 * w, 0.0, 0.0)
+        )
+        outline = np.vstack([outline, [(-0.3 * w, yb), (0.3 * w, yb)]])
+        parts.append(Part("blade", _slab(outline, z0, z0 + blade_t)))
+    neck_w = 0.16 * w
+    y_neck = yb - 0.12 * length
+    handle_t = float(np.clip(0.35 * t, 0.002, 0.012))
+    z_neck = zt - handle_t - 0.2 * (t - handle_t - blade_t)
+    y_front = yb + 0.01 * length
+    parts += [
+        Part(
+            "neck",
+            _taper((y_front, z0, 2 * neck_w, blade_t), (y_neck, z_neck, neck_w, handle_t)),
+        ),
+        Part(
+            "handle",
+            _taper(
+                (y_neck + 0.002, z_neck, neck_w, handle_t),
+                (y0, zt - handle_t, 0.32 * w, handle_t),
+                round_back=True,
+            ),
+        ),
+    ]
+    return parts
+
+
+@register("spatula", variants=2)
+def spatula(size, rng, style, support_heights):
+    """A spatula (turner) lying flat, blade toward +y: 0 slotted blade, 1 solid blade
+    with rounded corners."""
+    return _flat_utensil(size, lambda w, length, t: _spatula(w, length, t, rng, style))
+
+
+@register("ladle", variants=2)
+def ladle(size, rng, style, support_heights):
+    """A ladle lying flat, hollow bowl toward +y, handle toward -y ending in a hook:
+    0 round deep bowl, 1 shallow oval bowl with a longer hook."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    y0, yt = -sy / 2, sy / 2
+    rx = sx / 2
+    ry = min(rx, 0.2 * sy) if style == 0 else min(1.25 * rx, 0.26 * sy)
+    cy = yt - ry
+    t = _wall(rx, ry, 0.06, 0.0012, 0.004)
+    levels = (
+        [(0.4, z0), (0.82, z0 + 0.42 * h), (1.0, zt)]
+        if style == 0
+        else [(0.55, z0), (0.9, z0 + 0.45 * h), (1.0, zt)]
+    )
+    parts = [
+        Part("bowl_floor", _disc((0, cy), levels[0][0] * rx, levels[0][0] * ry, z0, z0 + 2 * t, 10))
+    ]
+    parts += _shell("bowl_wall", (0, cy), rx, ry, levels, t, sectors=10)
+    bar = float(np.clip(0.12 * h, 0.002, 0.008))
+    w = float(np.clip(0.18 * sx, 0.006, 0.025))
+    y_rim = cy - 0.92 * ry
+    hook = (0.06 if style == 0 else 0.1) * sy
+    z_end = z0 + (0.45 if style == 0 else 0.3) * h
+    parts += [
+        Part(
+            "handle", _beam((0, y_rim, zt - bar / 2), (0, y0 + hook, z_end), w, bar, side=(1, 0, 0))
+        ),
+        Part(
+            "hook",
+            _beam(
+                (0, y0 + hook + bar / 2, z_end),
+                (0, y0 + bar / 2, z_end - 0.25 * h),
+                w,
+                bar,
+                side=(1, 0, 0),
+            ),
+        ),
+    ]
+    return parts
+
+
+# -- appliances ---------------------------------------------------------------------------
+@register("microwave", variants=2)
+def microwave(size, rng, style, support_heights):
+    """A microwave oven: body, door with a recessed window on +y and a control panel at
+    -x (the viewer's right). 0 handle bar and a button grid, 1 push-open door with two dials."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    foot_h = float(np.clip(0.03 * h, 0.004, 0.012))
+    d = float(np.clip(0.05 * sy, 0.006, 0.02))
+    yf = sy / 2 - d
+    zb = z0 + foot_h
+    parts = [Part("body", box_between((-sx / 2, -sy / 2, zb), (sx / 2, yf, zt)))]
+    fx, fy = 0.08 * sx, 0.1 * sy
+    for i, (x, y) in enumerate(((-1, -1), (1, -1), (1, 1), (-1, 1))):
+        cx, cy = x * (sx / 2 - fx), y * (sy / 2 - d - fy)
+        parts.append(
+            Part(
+                f"foot_{i}",
+                box_between(
+                    (cx - 0.03 * sx, cy - 0.03 * sy, z0), (cx + 0.03 * sx, cy + 0.03 * sy, zb)
+                ),
+            )
+        )
+    m = 0.03 * min(sx, h)
+    x_split = sx / 2 - rng.uniform(0.24, 0.28) * sx
+    dz0, dz1 = zb + m, zt - m
+    dx0, dx1 = -sx / 2 + m, x_split - m / 2
+    bw = 0.14 * (dz1 - dz0)
+    door_front = yf + 0.55 * d
+    parts += [
+        Part("door_top", box_between((dx0, yf, dz1 - bw), (dx1, door_front, dz1))),
+        Part("door_bottom", box_between((dx0, yf, dz0), (dx1, door_front, dz0 + bw))),
+        Part("door_left", box_between((dx0, yf, dz0 + bw), (dx0 + bw, door_front, dz1 - bw))),
+        Part(
+            "door_right", box_between((dx1 - 1.6 * bw, yf, dz0 + bw), (dx1, door_front, dz1 - bw))
+        ),
+        Part(
+            "window",
+            box_between((dx0 + bw, yf, dz0 + bw), (dx1 - 1.6 * bw, yf + 0.15 * d, dz1 - bw)),
+        ),
+    ]
+    px0, px1 = x_split + m / 2, sx / 2 - m
+    panel_front = yf + 0.45 * d
+    parts.append(Part("panel", box_between((px0, yf, dz0), (px1, panel_front, dz1))))
+    pw = px1 - px0
+    parts.append(
+        Part(
+            "display",
+            box_between(
+                (px0 + 0.12 * pw, yf, dz1 - 0.22 * (dz1 - dz0)),
+                (px1 - 0.12 * pw, yf + 0.7 * d, dz1 - 0.08 * (dz1 - dz0)),
+            ),
+        )
+    )
+    if style == 0:
+        bx, bz = 0.26 * pw, 0.07 * (dz1 - dz0)
+        for r in range(4):
+            for k in range(2):
+                x = px0 + pw * (0.27 + 0.46 * k)
+                z = dz1 - (0.34 + 0.12 * r) * (dz1 - dz0)
+                parts.append(
+                    Part(
+                        f"button_{2 * r + k}",
+                        box_between(
+                            (x - bx / 2, yf, z - bz / 2), (x + bx / 2, yf + 0.75 * d, z + bz / 2)
+                        ),
+                    )
+                )
+        hx = dx1 - 0.9 * bw
+        parts.append(
+            Part(
+                "handle",
+                box_between(
+                    (hx - 0.35 * bw, door_front - 0.001, dz0 + 1.2 * bw),
+                    (hx + 0.35 * bw, sy / 2, dz1 - 1.2 * bw),
+                ),
+            )
+        )
+    else:
+        rd = 0.28 * pw
+        for k, fz in enumerate((0.45, 0.72)):
+            z = dz1 - fz * (dz1 - dz0)
+            parts.append(
+                Part(
+                    f"dial_{k}",
+                    _rod((px0 + pw / 2, yf, z), (px0 + pw / 2, sy / 2, z), rd, 0.9 * rd, ROUND),
+                )
+            )
+        parts.append(
+            Part(
+                "open_button",
+                box_between(
+                    (px0 + 0.25 * pw, yf, dz0 + 0.06 * h),
+                    (px1 - 0.25 * pw, yf + 0.75 * d, dz0 + 0.14 * h),
+                ),
+            )
+        )
+    # built with the panel at +x; mirror so it sits at -x, on the right of a person facing
+    # the door, as on real microwaves
+    return [Part(p.name, p.mesh.scaled((-1.0, 1.0, 1.0))) for p in parts]
+
+
+def _toaster(length, width, h, turned, rng, style):
+    """Toaster along x (slots along x); lever on the +y long side, or on the +x end when
+    ``turned`` (that end becomes the front)."""
+    z0, zt = -h / 2, h / 2
+    lever_d = float(np.clip(0.1 * min(length, width), 0.008, 0.025))
+    x1 = length / 2 - (lever_d if turned else 0.0)
+    y1 = width / 2 - (0.0 if turned else lever_d)
+    x0, y0 = -length / 2, -width / 2
+    slot_depth = rng.uniform(0.16, 0.2) * h
+    zs = zt - slot_depth
+    rc = (0.3 if style == 0 else 0.06) * (y1 - y0)
+    parts = [Part("body", prism(_rounded_rect(x0, x1, y0, y1, rc), z0, zs))]
+    w = y1 - y0
+    slot_w = float(np.clip(0.16 * w, 0.01, 0.045))
+    n_rows = 2
+    rim = (w - n_rows * slot_w) / (n_rows + 1)
+    cap = max(rc, 0.12 * (x1 - x0))
+    xs0, xs1 = x0 + cap, x1 - cap
+    parts += [
+        Part("top_end_0", prism(_rounded_rect(x0, xs0 + 0.001, y0, y1, (0, 0, rc, rc)), zs, zt)),
+        Part("top_end_1", prism(_rounded_rect(xs1 - 0.001, x1, y0, y1, (rc, rc, 0, 0)), zs, zt)),
+    ]
+    for k in range(n_rows + 1):
+        ya = y0 + k * (rim + slot_w)
+        parts.append(Part(f"top_rim_{k}", box_between((xs0, ya, zs), (xs1, ya + rim, zt))))
+    if style == 1:
+        # four-slice: a cross divider splits each slot in two
+        parts.append(Part("top_divider", box_between((-0.6 * rim, y0, zs), (0.6 * rim, y1, zt))))
+    lever_w = float(np.clip(0.12 * (x1 - x0), 0.012, 0.04))
+    lz = z0 + 0.62 * h
+    knob_r = 0.35 * lever_d
+    if turned:
+        parts += [
+            Part(
+                "lever",
+                box_between(
+                    (x1 - 0.001, -lever_w / 2, lz), (length / 2, lever_w / 2, lz + 0.06 * h)
+                ),
+            ),
+            Part(
+                "knob",
+                _rod(
+                    (x1 - 0.001, 0, z0 + 0.3 * h),
+                    (length / 2, 0, z0 + 0.3 * h),
+                    1.6 * knob_r,
+                    1.4 * knob_r,
+                ),
+            ),
+        ]
+    else:
+        xl = x1 - 0.25 * (x1 - x0)
+        parts += [
+            Part(
+                "lever",
+                box_between(
+                    (xl - lever_w / 2, y1 - 0.001, lz), (xl + lever_w / 2, width / 2, lz + 0.06 * h)
+                ),
+            ),
+            Part(
+                "knob",
+                _rod(
+                    (x0 + 0.25 * (x1 - x0), y1 - 0.001, z0 + 0.35 * h),
+                    (x0 + 0.25 * (x1 - x0), width / 2, z0 + 0.35 * h),
+                    1.6 * knob_r,
+                    1.4 * knob_r,
+                ),
+            ),
+        ]
+    return parts
+
+
+@register("toaster", variants=2)
+def toaster(size, rng, style, support_heights):
+    """A toaster with open slots on top running along its longer side, lever facing +y:
+    0 rounded two-slice, 1 boxy four-slice."""
+    return _in_long_frame(
+        size, lambda length, w, h, turned: _toaster(length, w, h, turned, rng, style)
+    )
+
+
+@register("coffee_machine", variants=2)
+def coffee_machine(size, rng, style, support_heights):
+    """A coffee machine facing +y: 0 drip machine (base, back tower, overhanging head,
+    glass carafe), 1 espresso machine (body, group head, portafilter, drip tray, cup)."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    if style == 0:
+        base_h = 0.1 * h
+        tower_d = rng.uniform(0.36, 0.42) * sy
+        head_h = 0.3 * h
+        yt = -sy / 2 + tower_d
+        parts = [
+            Part("base", box_between((-sx / 2, -sy / 2, z0), (sx / 2, sy / 2, z0 + base_h))),
+            Part("tower", box_between((-sx / 2, -sy / 2, z0 + base_h), (sx / 2, yt, zt))),
+            Part(
+                "head",
+                box_between(
+                    (-sx / 2, yt - 0.01 * sy, zt - head_h), (sx / 2, sy / 2 - 0.04 * sy, zt)
+                ),
+            ),
+        ]
+        free = sy / 2 - yt
+        rc = min(0.32 * sx, 0.44 * free)
+        cy = yt + free / 2
+        zc0 = z0 + base_h
+        # the filter basket hangs under the head; the carafe stands below it
+        zf = zt - head_h - 0.12 * h
+        zc1 = zf - 0.015 * h
+        hc = zc1 - zc0
+        parts += [
+            Part(
+                "filter_basket",
+                frustum((0, cy, zf), zt - head_h - zf + 0.001, 0.75 * rc, 1.05 * rc, ROUND),
+            ),
+            Part(
+                "carafe",
+                _lathe(
+                    (0, cy),
+                    rc,
+                    rc,
+                    [
+                        (0.92, zc0),
+                        (1.0, zc0 + 0.12 * hc),
+                        (0.96, zc0 + 0.4 * hc),
+                        (0.78, zc0 + 0.72 * hc),
+                        (0.5, zc1),
+                    ],
+                ),
+            ),
+        ]
+        parts += _mug_handle(
+            0.85 * rc,
+            1.4 * rc,
+            zc0 + 0.2 * hc,
+            zc0 + 0.8 * hc,
+            0.12 * rc,
+            0.1 * rc,
+            rounded=False,
+            y=cy,
+            prefix="carafe_handle",
+        )
+        parts += [
+            Part(
+                "switch",
+                box_between(
+                    (0.25 * sx, sy / 2 - 0.001, z0 + 0.2 * base_h),
+                    (0.4 * sx, sy / 2 + 0.005 * sy, z0 + 0.8 * base_h),
+                ),
+            ),
+        ]
+        return parts
+    body_d = rng.uniform(0.55, 0.62) * sy
+    yb = -sy / 2 + body_d
+    over_d = 0.17 * sy
+    over_h = 0.28 * h
+    tray_h = 0.08 * h
+    parts = [
+        Part("body", box_between((-sx / 2, -sy / 2, z0), (sx / 2, yb, zt))),
+        Part(
+            "head", box_between((-sx / 2, yb - 0.01 * sy, zt - over_h), (sx / 2, yb + over_d, zt))
+        ),
+        Part(
+            "drip_tray",
+            box_between(
+                (-0.42 * sx, yb - 0.01 * sy, z0), (0.42 * sx, sy / 2 - 0.03 * sy, z0 + tray_h)
+            ),
+        ),
+    ]
+    gy = yb + 0.55 * over_d
+    gr = min(0.12 * sx, 0.4 * over_d)
+    zg = zt - over_h
+    pf_z = zg - 0.07 * h
+    parts += [
+        Part("group_head", cylinder((0, gy, zg - 0.03 * h + 0.001), gr, 0.06 * h, ROUND)),
+        Part("portafilter", cylinder((0, gy, pf_z), 1.05 * gr, 0.05 * h, ROUND)),
+        Part(
+            "portafilter_handle",
+            _beam(
+                (0, gy + 0.8 * gr, pf_z),
+                (0, sy / 2, pf_z - 0.04 * h),
+                0.35 * gr,
+                0.04 * h,
+                side=(1, 0, 0),
+            ),
+        ),
+        Part(
+            "cup",
+            _lathe(
+                (0, gy), 0.7 * gr, 0.7 * gr, [(0.7, z0 + tray_h), (1.0, z0 + tray_h + 0.14 * h)]
+            ),
+        ),
+        Part(
+            "steam_wand",
+            _rod(
+                (0.36 * sx, yb + 0.4 * over_d, zg),
+                (0.36 * sx, yb + 0.8 * over_d, z0 + tray_h + 0.12 * h),
+                0.012 * sx,
+            ),
+        ),
+        Part(
+            "gauge",
+            _rod(
+                (-0.28 * sx, yb + over_d - 0.001, zt - 0.45 * over_h),
+                (-0.28 * sx, yb + over_d + 0.01 * sy, zt - 0.45 * over_h),
+                0.08 * sx,
+                0.08 * sx,
+                ROUND,
+            ),
+        ),
+    ]
+    return parts
+
+
+# -- food ---------------------------------------------------------------------------------
+@register("apple", variants=2)
+def apple(size, rng, style, support_heights):
+    """An apple with a stem: 0 round, 1 taller with a tapered bottom and a leaf."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    zb = z0 + 0.9 * h
+    # (fraction of body height, fraction of radius): a round body, narrower at the base,
+    # with a flat crown where the stem sits (the dimple cannot be convex)
+    if style == 0:
+        t = [0.0, 0.05, 0.15, 0.3, 0.5, 0.65, 0.8, 0.9, 0.97, 1.0]
+        r = [0.3, 0.55, 0.78, 0.93, 1.0, 0.98, 0.86, 0.65, 0.42, 0.3]
+    else:
+        t = [0.0, 0.06, 0.2, 0.4, 0.62, 0.78, 0.9, 0.97, 1.0]
+        r = [0.28, 0.5, 0.75, 0.92, 1.0, 0.94, 0.75, 0.5, 0.32]
+    profile = np.c_[r, z0 + np.asarray(t) * (zb - z0)]
+    stem_r = float(np.clip(0.05 * min(rx, ry), 0.0015, 0.006))
+    lean = rng.uniform(0.03, 0.08) * rx
+    parts = [
+        Part("body", _lathe((0, 0), rx, ry, profile)),
+        Part("stem", _rod((0, 0, zb - 0.04 * h), (lean, 0, zt), stem_r, 0.8 * stem_r, 6)),
+    ]
+    if style == 1:
+        leaf = ellipsoid((0, 0, 0), (0.3 * rx, 0.12 * ry, 0.015 * h), 4, 8)
+        parts.append(Part("leaf", leaf.transformed(_rot_y(-0.35), (-0.3 * rx, 0, zb + 0.02 * h))))
+    return parts
+
+
+@register("tomato", variants=2)
+def tomato(size, rng, style, support_heights):
+    """A tomato with a green calyx and stem: 0 smooth, 1 ribbed (lobed) beefsteak."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    zb = z0 + 0.9 * h
+    if style == 0:
+        parts = [
+            Part(
+                "body",
+                _lathe(
+                    (0, 0),
+                    rx,
+                    ry,
+                    [
+                        (0.45, z0),
+                        (0.82, z0 + 0.12 * h),
+                        (1.0, z0 + 0.45 * h),
+                        (0.88, z0 + 0.75 * h),
+                        (0.45, zb),
+                    ],
+                ),
+            )
+        ]
+    else:
+        parts = [
+            Part(
+                "core",
+                _lathe(
+                    (0, 0),
+                    0.8 * rx,
+                    0.8 * ry,
+                    [(0.5, z0 + 0.03 * h), (1.0, z0 + 0.45 * h), (0.5, zb)],
+                ),
+            )
+        ]
+        n = 6
+        off = rng.uniform(0, np.pi / n)
+        for i in range(n):
+            a = off + 2 * np.pi * i / n
+            c = (0.32 * rx * np.cos(a), 0.32 * ry * np.sin(a), z0 + 0.46 * h)
+            parts.append(Part(f"lobe_{i}", ellipsoid(c, (0.68 * rx, 0.68 * ry, 0.44 * h), 6, 10)))
+    # calyx: thin sepals radiating from the top, drooping a little
+    n_sep = 5
+    w = 0.12 * min(rx, ry)
+    th = 0.02 * h
+    for i in range(n_sep):
+        a = 2 * np.pi * i / n_sep + 0.3
+        # the ribbed lobes reach the crown, so there the sepals lie flatter
+        tip = (0.42 * rx * np.cos(a), 0.42 * ry * np.sin(a), zb - (0.06 if style == 0 else 0.0) * h)
+        parts.append(
+            Part(
+                f"sepal_{i}",
+                _beam((0, 0, zb + 0.01 * h), tip, w, th, side=(-np.sin(a), np.cos(a), 0)),
+            )
+        )
+    parts.append(
+        Part(
+            "stem",
+            _rod((0, 0, zb - 0.02 * h), (0, 0, zt), 0.05 * min(rx, ry), 0.04 * min(rx, ry), 6),
+        )
+    )
+    return parts
+
+
+def _lumpy(
+    center: Sequence[float],
+    radii: Sequence[float],
+    rng: np.random.Generator,
+    jitter: float,
+    n: int = 48,
+) -> Mesh:
+    """Convex hull of n points on an ellipsoid (3,) radii, each radius jittered by a
+    relative ``jitter`` (a potato's irregular outline)."""
+    k = np.arange(n) + 0.5
+    phi = np.arccos(1 - 2 * k / n)
+    theta = np.pi * (1 + 5**0.5) * k
+    dirs = np.stack([np.cos(theta) * np.sin(phi), np.sin(theta) * np.sin(phi), np.cos(phi)], 1)
+    scale = 1 + jitter * rng.standard_normal(n)
+    return hull(np.asarray(center) + dirs * np.clip(scale, 0.7, 1.3)[:, None] * radii)
+
+
+@register("potato", variants=2)
+def potato(size, rng, style, support_heights):
+    """A potato: 0 one lumpy oval, 1 two fused lumps along its long axis."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, rz = sx / 2, sy / 2, h / 2
+    if style == 0:
+        return [Part("body", _lumpy((0, 0, 0), (rx, ry, rz), rng, 0.06))]
+    along_y = sy >= sx
+    axis = np.array([0.0, 1.0, 0.0]) if along_y else np.array([1.0, 0.0, 0.0])
+    long_r = ry if along_y else rx
+    r_a = np.array([rx, ry, rz]) * np.where(axis > 0, 0.62, 1.0)
+    r_b = np.array([rx, ry, rz]) * np.where(axis > 0, 0.5, 0.85)
+    return [
+        Part("lump_0", _lumpy(-axis * (long_r - r_a @ axis), r_a, rng, 0.05)),
+        Part("lump_1", _lumpy(axis * (long_r - r_b @ axis), r_b, rng, 0.05)),
+    ]
+
+
+@register("egg", variants=2)
+def egg(size, rng, style, support_heights):
+    """An egg standing on its broad end: 0 pointed (hen's egg), 1 rounder."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0 = sx / 2, sy / 2, -h / 2
+    k = rng.uniform(0.14, 0.2) if style == 0 else rng.uniform(0.02, 0.05)
+    u = np.cos(np.linspace(np.pi, 0.0, 11))  # denser rings near the ends
+    r = np.sqrt(np.clip(1 - u**2, 0, None)) * (1 - k * u)
+    r /= r.max()
+    r[0] = r[-1] = 0.0
+    return [Part("shell", _lathe((0, 0), rx, ry, np.c_[r, z0 + (u + 1) / 2 * h]))]
+
+
+@register("lettuce", variants=2)
+def lettuce(size, rng, style, support_heights):
+    """A lettuce: 0 round head with leaves wrapped around a core, 1 romaine head lying on
+    its side, leaves fanning out from the stalk along the longer horizontal axis."""
+    sx, sy, h = (float(v) for v in size)
+    if style == 0:
+        rx, ry, rz = sx / 2, sy / 2, h / 2
+        parts = [Part("core", ellipsoid((0, 0, 0.02 * rz), (0.8 * rx, 0.8 * ry, 0.92 * rz), 6, 12))]
+        n = 7
+        off = rng.uniform(0, 2 * np.pi)
+        for i in range(n):
+            a = off + 2 * np.pi * i / n
+            # an outer leaf stands tangentially against the core, its top leaning in
+            # slightly so the head reads as wrapped, not open
+            leaf = ellipsoid((0, 0, 0), (0.14, 0.6, 0.72), 6, 10)
+            leaf = leaf.transformed(
+                _rot_z(a) @ _rot_y(-rng.uniform(0.1, 0.2)),
+                (0.68 * np.cos(a), 0.68 * np.sin(a), -0.2),
+            )
+            parts.append(Part(f"leaf_{i}", leaf.scaled((rx, ry, rz))))
+        for i in range(3):
+            a = off + 2 * np.pi * i / 3 + 0.5
+            # crinkled top: loose leaves folded over the crown
+            leaf = ellipsoid((0, 0, 0), (0.5, 0.3, 0.12), 4, 10)
+            leaf = leaf.transformed(
+                _rot_z(a) @ _rot_y(0.35), (0.3 * np.cos(a), 0.3 * np.sin(a), 0.75)
+            )
+            parts.append(Part(f"top_leaf_{i}", leaf.scaled((rx, ry, rz))))
+        return parts
+
+    def build(length, w, hh, turned):
+        hl, hw, hz = length / 2, w / 2, hh / 2
+        out = [
+            Part(
+                "stalk",
+                _rod((-hl, 0, -0.2 * hz), (-0.4 * hl, 0, -0.1 * hz), 0.35 * hw, 0.6 * hw, 10),
+            )
+        ]
+        spec = [
+            (0.1, 0.0, 0.0, 0.0),
+            (0.15, 0.35, 0.1, 0.18),
+            (0.15, -0.35, 0.1, -0.18),
+            (0.2, 0.2, 0.45, 0.08),
+            (0.2, -0.2, 0.45, -0.08),
+        ]
+        for i, (cx, cy, cz, yaw) in enumerate(spec):
+            leaf = ellipsoid((0, 0, 0), (0.75 * hl, 0.55 * hw, 0.55 * hz), 6, 12)
+            leaf = leaf.transformed(
+                _rot_z(yaw + rng.uniform(-0.04, 0.04)), (cx * hl, cy * hw, (cz - 0.35) * hz)
+            )
+            out.append(Part(f"leaf_{i}", leaf))
+        return out
+
+    return _in_long_frame(size, build)
+
+
+@register("bread", variants=2)
+def bread(size, rng, style, support_heights):
+    """A loaf of bread: 0 tin loaf (box base, domed top), 1 oval baton with score marks."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    if style == 0:
+
+        def build(length, w, hh, turned):
+            hz0 = -hh / 2
+            zs = hz0 + rng.uniform(0.5, 0.58) * hh
+            base = box_between((-0.48 * length, -0.46 * w, hz0), (0.48 * length, 0.46 * w, zs))
+            arc = _ellipse(0, zs, 0.5 * w, hh / 2 - zs, 9, 0.0, np.pi, endpoint=True)
+            dome = prism(arc, -length / 2, length / 2)
+            # prism extrudes along z: turn its axis onto x, its outline's (x, y) onto (y, z)
+            dome = dome.transformed(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]))
+            return [Part("base", base), Part("top", dome)]
+
+        return _in_long_frame(size, build)
+    rx, ry = sx / 2, sy / 2
+    parts = [
+        Part(
+            "loaf",
+            _lathe(
+                (0, 0),
+                rx,
+                ry,
+                [
+                    (0.84, z0),
+                    (0.97, z0 + 0.16 * h),
+                    (1.0, z0 + 0.3 * h),
+                    (0.88, z0 + 0.66 * h),
+                    (0.55, z0 + 0.9 * h),
+                    (0.18, zt),
+                ],
+            ),
+        )
+    ]
+    long_x = sx >= sy
+    lmax = max(rx, ry)
+    for i, f in enumerate((-0.4, 0.0, 0.4)):
+        slash = ellipsoid((0, 0, 0), (0.2 * lmax, 0.04 * lmax, 0.03 * h), 4, 8)
+        rot = _rot_z(0.9 if long_x else 0.9 + np.pi / 2)
+        c = (f * rx, 0.0, 0.0) if long_x else (0.0, f * ry, 0.0)
+        r_frac = np.hypot(c[0] / rx, c[1] / ry)
+        z = z0 + h * (0.9 if r_frac < 0.2 else 0.8)
+        parts.append(Part(f"score_{i}", slash.transformed(rot, (c[0], c[1], z))))
+    return parts
+
+
+# -- cleaning, household ------------------------------------------------------------------
+@register("aluminum_foil", variants=2)
+def aluminum_foil(size, rng, style, support_heights):
+    """A roll of aluminium foil in its carton, along the longer side: 0 open lid showing
+    the roll, 1 closed lid with a sheet of foil hanging out at the front."""
+
+    def build(length, w, h, turned):
+        z0, zt = -h / 2, h / 2
+        tw = float(np.clip(0.04 * w, 0.0008, 0.003))
+        x0, x1, y0, y1 = -length / 2, length / 2, -w / 2, w / 2
+        if style == 0:
+            hc = rng.uniform(0.58, 0.64) * h
+            zc = z0 + hc
+            parts = [
+                Part("carton_bottom", box_between((x0, y0, z0), (x1, y1, z0 + tw))),
+                Part("carton_front", box_between((x0, y1 - tw, z0), (x1, y1, zc))),
+                Part("carton_back", box_between((x0, y0, z0), (x1, y0 + tw, zc))),
+                Part("carton_end_0", box_between((x0, y0, z0), (x0 + tw, y1, zc))),
+                Part("carton_end_1", box_between((x1 - tw, y0, z0), (x1, y1, zc))),
+            ]
+            rr = 0.42 * min(w - 2 * tw, hc)
+            parts.append(
+                Part(
+                    "roll",
+                    _rod(
+                        (x0 + 1.5 * tw, 0, z0 + tw + rr),
+                        (x1 - 1.5 * tw, 0, z0 + tw + rr),
+                        rr,
+                        rr,
+                        12,
+                    ),
+                )
+            )
+            # lid hinged on the back top edge, opened until it reaches the box top
+            open_ang = float(np.arcsin(np.clip((zt - zc) / w, 0.0, 1.0)))
+            tip = np.array([0.0, y0 + w * np.cos(open_ang), zc + w * np.sin(open_ang)])
+            parts.append(
+                Part(
+                    "lid",
+                    _beam(
+                        (0.0, y0 + tw / 2, zc),
+                        (0.0, tip[1], tip[2] - tw / 2),
+                        length,
+                        tw,
+                        side=(1, 0, 0),
+                    ),
+                )
+            )
+            return parts
+        lip = 0.35 * h
+        return [
+            Part("carton", box_between((x0, y0, z0), (x1, y1 - tw, zt - tw))),
+            Part("lid", box_between((x0, y0, zt - tw), (x1, y1, zt))),
+            Part("lid_flap", box_between((x0, y1 - tw, zt - lip), (x1, y1, zt))),
+            Part(
+                "foil_sheet",
+                _beam(
+                    (0.0, y1 - 0.5 * tw, zt - lip),
+                    (0.0, y1, z0 + 0.12 * h),
+                    0.9 * length,
+                    0.5 * tw,
+                    side=(1, 0, 0),
+                ),
+            ),
+        ]
+
+    return _in_long_frame(size, build)
+
+
+@register("dish_sponge", variants=2)
+def dish_sponge(size, rng, style, support_heights):
+    """A kitchen sponge with a scouring layer on top: 0 rectangular block, 1 waisted
+    (grip) sponge."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    zs = z0 + rng.uniform(0.62, 0.7) * h
+    r = 0.12 * min(sx, sy)
+    if style == 0:
+        return [
+            Part("sponge", prism(_rounded_rect(-sx / 2, sx / 2, -sy / 2, sy / 2, r), z0, zs)),
+            Part("scourer", prism(_rounded_rect(-sx / 2, sx / 2, -sy / 2, sy / 2, r), zs, zt)),
+        ]
+    along_y = sy >= sx
+    lx, ly = (sx / 2, sy / 2) if along_y else (sy / 2, sx / 2)  # across, along
+    lobe = 0.36 * ly
+    pieces = {
+        "sponge_end_0": (-lx, lx, -ly, -ly + lobe, (0, 0, r, r)),
+        "sponge_middle": (-0.78 * lx, 0.78 * lx, -ly + lobe - 0.001, ly - lobe + 0.001, 0.0),
+        "sponge_end_1": (-lx, lx, ly - lobe, ly, (r, r, 0, 0)),
+    }
+    parts = []
+    for name, (a0, a1, b0, b1, rad) in pieces.items():
+        outline = _rounded_rect(b0, b1, a0, a1, rad)[:, ::-1]  # along y: swap to (x, y)
+        if not along_y:
+            outline = outline[:, ::-1]
+        parts.append(Part(name, prism(outline, z0, zs)))
+    scour = _rounded_rect(-0.78 * lx, 0.78 * lx, -ly, ly, 0.5 * r)
+    parts.append(Part("scourer", prism(scour if along_y else scour[:, ::-1], zs, zt)))
+    return parts
+
+
+@register("soap_bar", variants=2)
+def soap_bar(size, rng, style, support_heights):
+    """A bar of soap: 0 rounded rectangular pillow, 1 oval pebble."""
+    sx, sy, h = (float(v) for v in size)
+    z0, zt = -h / 2, h / 2
+    if style == 0:
+        r = rng.uniform(0.2, 0.28) * min(sx, sy)
+        levels = [(0.9, z0), (1.0, z0 + 0.35 * h), (0.96, zt - 0.2 * h), (0.8, zt)]
+        pts = [
+            np.c_[
+                _rounded_rect(-s * sx / 2, s * sx / 2, -s * sy / 2, s * sy / 2, s * r, 3),
+                np.full(16, z),
+            ]
+            for s, z in levels
+        ]
+        return [Part("bar", hull(np.concatenate(pts)))]
+    return [
+        Part(
+            "bar",
+            _lathe(
+                (0, 0),
+                sx / 2,
+                sy / 2,
+                [(0.82, z0), (1.0, z0 + 0.3 * h), (0.9, z0 + 0.75 * h), (0.55, zt)],
+            ),
+        )
+    ]
+
+
+def _bristles(
+    x0: float, x1: float, y0: float, y1: float, z0: float, z1: float, nx: int, ny: int
+) -> list[Part]:
+    """An nx x ny grid of bristle tufts (boxes) filling [x0, x1] x [y0, y1]."""
+    gx, gy = (x1 - x0) / nx, (y1 - y0) / ny
+    return [
+        Part(
+            f"bristles_{i * ny + j}",
+            box_between(
+                (x0 + (i + 0.15) * gx, y0 + (j + 0.15) * gy, z0),
+                (x0 + (i + 0.85) * gx, y0 + (j + 0.85) * gy, z1 + 0.001),
+            ),
+        )
+        for i in range(nx)
+        for j in range(ny)
+    ]
+
+
+@register("scrub_brush", variants=2)
+def scrub_brush(size, rng, style, support_heights):
+    """A scrub brush. In a tall box, a standing (toilet) brush: 0 in a closed holder,
+    1 on an open stand with the bristle head visible. In a flat box, a hand brush:
+    0 block with a knob, 1 pointed block with a loop handle."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    hr = float(np.clip(0.1 * min(rx, ry), 0.005, 0.015))
+    if h > UPRIGHT_RATIO * max(sx, sy):
+        if style == 0:
+            zh = z0 + rng.uniform(0.34, 0.4) * h
+            return [
+                Part(
+                    "holder", _lathe((0, 0), rx, ry, [(0.85, z0), (1.0, z0 + 0.08 * h), (0.92, zh)])
+                ),
+                Part(
+                    "holder_rim",
+                    _disc((0, 0), 0.75 * rx, 0.75 * ry, zh - 0.01 * h, zh + 0.015 * h, ROUND),
+                ),
+                Part("handle", _rod((0, 0, zh), (0, 0, zt - 0.06 * h), hr, 0.9 * hr)),
+                Part("knob", ellipsoid((0, 0, zt - 0.06 * h), (2 * hr, 2 * hr, 0.06 * h), 6, THIN)),
+            ]
+        base_h = 0.04 * h
+        zb = z0 + base_h
+        head_h = 0.2 * h
+        return [
+            Part("stand", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.01 * h), (0.9, zb)])),
+            Part(
+                "head",
+                ellipsoid((0, 0, zb + head_h / 2), (0.62 * rx, 0.62 * ry, head_h / 2), 6, 12),
+            ),
+            Part(
+                "ferrule",
+                _rod((0, 0, zb + 0.8 * head_h), (0, 0, zb + head_h + 0.06 * h), 1.6 * hr, 1.2 * hr),
+            ),
+            Part("handle", _rod((0, 0, zb + head_h), (0, 0, zt - 0.03 * h), hr, 0.9 * hr)),
+            Part("knob", ellipsoid((0, 0, zt - 0.03 * h), (1.6 * hr, 1.6 * hr, 0.03 * h), 4, THIN)),
+        ]
+    bristle_h = 0.3 * h
+    zb = z0 + bristle_h
+    block_h = 0.3 * h
+    if style == 0:
+        parts = [
+            Part(
+                "block", prism(_rounded_rect(-rx, rx, -ry, ry, 0.3 * min(rx, ry)), zb, zb + block_h)
+            )
+        ]
+        parts += _bristles(
+            -0.88 * rx,
+            0.88 * rx,
+            -0.9 * ry,
+            0.9 * ry,
+            z0,
+            zb,
+            3 if sx < sy else 5,
+            5 if sx < sy else 3,
+        )
+        kr = 0.35 * min(rx, ry)
+        parts.append(
+            Part(
+                "knob",
+                _lathe(
+                    (0, 0),
+                    kr,
+                    kr,
+                    [(0.6, zb + block_h - 0.01 * h), (1.0, zt - 0.15 * h), (0.7, zt)],
+                ),
+            )
+        )
+        return parts
+    outline = np.array([(-rx, -ry), (rx, -ry), (rx, 0.3 * ry), (0.0, ry), (-rx, 0.3 * ry)])
+    parts = [Part("block", prism(outline, zb, zb + block_h))]
+    parts += _bristles(-0.8 * rx, 0.8 * rx, -0.9 * ry, 0.2 * ry, z0, zb, 3, 4)
+    parts += _bristles(-0.35 * rx, 0.35 * rx, 0.2 * ry, 0.6 * ry, z0, zb, 1, 1)
+    bar = float(np.clip(0.12 * h, 0.004, 0.012))
+    w = 0.3 * sx
+    zt_b = zb + block_h
+    parts += [
+        Part(
+            "handle_post_0",
+            box_between((-w / 2, -0.65 * ry, zt_b - 0.001), (w / 2, -0.65 * ry + bar, zt)),
+        ),
+        Part(
+            "handle_post_1",
+            box_between((-w / 2, 0.25 * ry - bar, zt_b - 0.001), (w / 2, 0.25 * ry, zt)),
+        ),
+        Part("handle", box_between((-w / 2, -0.65 * ry, zt - bar), (w / 2, 0.25 * ry, zt))),
+    ]
+    return parts
+
+
+@register("plunger", variants=2)
+def plunger(size, rng, style, support_heights):
+    """A plunger standing on its rubber cup: 0 plain cup, 1 flange cup."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    hr = float(np.clip(0.1 * min(rx, ry), 0.006, 0.02))
+    parts = []
+    zc = z0
+    if style == 1:
+        flange = 0.06 * h
+        parts.append(
+            Part(
+                "flange",
+                frustum((0, 0, z0), flange, (0.5 * rx, 0.5 * ry), (0.62 * rx, 0.62 * ry), ROUND),
+            )
+        )
+        zc = z0 + 0.8 * flange
+    hc = rng.uniform(0.2, 0.24) * h
+    parts += [
+        Part(
+            "cup",
+            _lathe(
+                (0, 0),
+                rx,
+                ry,
+                [(1.0, zc), (0.96, zc + 0.3 * hc), (0.78, zc + 0.7 * hc), (0.3, zc + hc)],
+            ),
+        ),
+        Part("handle", _rod((0, 0, zc + 0.9 * hc), (0, 0, zt - 0.03 * h), hr, hr)),
+        Part(
+            "handle_end",
+            _lathe(
+                (0, 0),
+                1.25 * hr,
+                1.25 * hr,
+                [(1.0, zt - 0.04 * h), (1.0, zt - 0.01 * h), (0.6, zt)],
+                THIN,
+            ),
+        ),
+    ]
+    return parts
+
+
+@register("candle", variants=2)
+def candle(size, rng, style, support_heights):
+    """A candle: 0 pillar candle with a wick, 1 taper candle in a holder with a flame."""
+    sx, sy, h = (float(v) for v in size)
+    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
+    if style == 0:
+        zb = zt - rng.uniform(0.06, 0.1) * h
+        wr = float(np.clip(0.05 * min(rx, ry), 0.0008, 0.003))
+        return [
+            Part("body", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.02 * h), (0.9, zb)])),
+            Part("wick", _rod((0, 0, zb - 0.005 * h), (0.02 * rx, 0, zt), wr, 0.8 * wr, 6)),
+        ]
+    z1, z2, z3 = z0 + 0.04 * h, z0 + 0.2 * h, z0 + 0.26 * h
+    cr = 0.24
+    zc = zt - rng.uniform(0.13, 0.16) * h
+    return [
+        Part("dish", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.9 * rx, 0.9 * ry), ROUND)),
+        Part("stem", _rod((0, 0, z1 - 0.001), (0, 0, z2), 0.12 * min(rx, ry), 0.1 * min(rx, ry))),
+        Part(
+            "socket",
+            frustum(
+                (0, 0, z2 - 0.001), z3 - z2, (0.2 * rx, 0.2 * ry), (0.34 * rx, 0.34 * ry), ROUND
+            ),
+        ),
+        Part(
+            "taper",
+            _lathe(
+                (0, 0),
+                cr * rx,
+                cr * ry,
+                [(1.0, z3 - 0.01 * h), (0.85, zc - 0.02 * h), (0.5, zc)],
+                THIN,
+            ),
+        ),
+        Part(
+            "wick",
+            _rod(
+                (0, 0, zc - 0.005 * h),
+                (0, 0, zc + 0.03 * h),
+                0.02 * min(rx, ry),
+                0.02 * min(rx, ry),
+                6,
+            ),
+        ),
+        Part(
+            "flame",
+            _lathe(
+                (0, 0),
+                0.14 * rx,
+                0.14 * ry,
+                [(0.0, zc + 0.02 * h), (0.8, zc + 0.05 * h), (1.0, zc + 0.07 * h), (0.0, zt)],
+                THIN,
+            ),
+        ),
+    ]
