@@ -1,0 +1,1 @@
+"""3D-Pairs curation: scenes -> validated relation tuples and statistics."""
