@@ -232,6 +232,29 @@ def cylinder(
     return m.transformed(rotation, center)
 
 
+def align_z(direction: ArrayLike) -> np.ndarray:
+    """(3, 3) rotation taking +z onto ``direction`` (3,) along the shortest arc."""
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    v = np.array([-d[1], d[0], 0.0])  # z x d
+    c = d[2]
+    if np.linalg.norm(v) < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    vx = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + vx + vx @ vx / (1.0 + c)
+
+
+def rod(
+    p0: ArrayLike, p1: ArrayLike, r0: float, r1: float | None = None, segments: int = 8
+) -> Mesh:
+    """A round rod (a frustum with radii r0 -> r1) from point p0 (3,) to point p1 (3,)."""
+    a, b = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    d = b - a
+    return frustum(
+        a, float(np.linalg.norm(d)), r0, r0 if r1 is None else r1, segments, rotation=align_z(d)
+    )
+
+
 def ellipsoid(
     center: ArrayLike,
     radii: float | Sequence[float],

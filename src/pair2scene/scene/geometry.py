@@ -74,21 +74,28 @@ def euler_to_matrix(angles: ArrayLike, order: str) -> np.ndarray:
     result is Ry @ Rx @ Rz. angles : (3,) in x, y, z order.
     """
     ax, ay, az = np.asarray(angles, dtype=float)
-    elementary = {"x": _rot_x(ax), "y": _rot_y(ay), "z": yaw_to_matrix(az)}
+    elementary = {"x": rot_x(ax), "y": rot_y(ay), "z": rot_z(az)}
     out = np.eye(3)
     for axis in order:
         out = elementary[axis] @ out
     return out
 
 
-def _rot_x(a: float) -> np.ndarray:
+def rot_x(a: float) -> np.ndarray:
+    """(3, 3) rotation by ``a`` radians about +x."""
     c, s = np.cos(a), np.sin(a)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
-def _rot_y(a: float) -> np.ndarray:
+def rot_y(a: float) -> np.ndarray:
+    """(3, 3) rotation by ``a`` radians about +y."""
     c, s = np.cos(a), np.sin(a)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    """(3, 3) rotation by ``a`` radians about +z."""
+    return yaw_to_matrix(float(a))
 
 
 def is_rotation(rotation: ArrayLike, atol: float = ROTATION_ATOL) -> bool:

@@ -37,7 +37,11 @@ from pair2scene.assets.mesh import (
     hull,
     prism,
 )
+from pair2scene.assets.mesh import rod as _rod
 from pair2scene.assets.registry import register
+from pair2scene.scene.geometry import rot_x as _rot_x
+from pair2scene.scene.geometry import rot_y as _rot_y
+from pair2scene.scene.geometry import rot_z as _rot_z
 
 ROUND_SEGMENTS = 12
 """Sides of a round part on a small object: reads as round at 256 px, cheap to build."""
@@ -52,55 +56,12 @@ _TAU = 2.0 * np.pi
 
 
 # -- small geometry helpers -----------------------------------------------------------------
-def _rot_x(a: float) -> np.ndarray:
-    """(3, 3) rotation by ``a`` radians about +x."""
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _rot_y(a: float) -> np.ndarray:
-    """(3, 3) rotation by ``a`` radians about +y."""
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _rot_z(a: float) -> np.ndarray:
-    """(3, 3) rotation by ``a`` radians about +z."""
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 _Z_TO_X = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 """Local z -> x, local x -> y, local y -> z: lays a z-axis primitive along x."""
 _Z_TO_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 """Local z -> y, local x -> x, local y -> -z: lays a z-axis primitive along y."""
-
-
-def _align_z(direction: np.ndarray) -> np.ndarray:
-    """(3, 3) rotation taking +z onto ``direction`` (3,) (Rodrigues, shortest arc)."""
-    d = np.asarray(direction, dtype=float)
-    d = d / np.linalg.norm(d)
-    v = np.array([-d[1], d[0], 0.0])  # z x d
-    c = d[2]
-    if np.linalg.norm(v) < 1e-12:
-        return np.eye(3) if c > 0 else _rot_x(np.pi)
-    vx = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-    return np.eye(3) + vx + vx @ vx / (1.0 + c)
-
-
-def _rod(
-    p0: Sequence[float],
-    p1: Sequence[float],
-    r0: float,
-    r1: float | None = None,
-    segments: int = ROD_SEGMENTS,
-) -> Mesh:
-    """A round rod (or cone frustum, radii r0 -> r1) from point p0 (3,) to point p1 (3,)."""
-    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    d = p1 - p0
-    return frustum(
-        p0, float(np.linalg.norm(d)), r0, r0 if r1 is None else r1, segments, rotation=_align_z(d)
-    )
 
 
 def _cyl_x(

@@ -41,7 +41,10 @@ from pair2scene.assets.mesh import (
     hull,
     prism,
 )
+from pair2scene.assets.mesh import rod as _rod
 from pair2scene.assets.registry import register
+from pair2scene.scene.geometry import rot_y as _rot_y
+from pair2scene.scene.geometry import rot_z as _rot_z
 
 ROUND = 16
 """Sides of a round body (bottles, fruit): reads as round in a 256 px view."""
@@ -70,16 +73,6 @@ _HEX_FACES = np.array(
 
 
 # -- small geometry helpers ---------------------------------------------------------------
-def _rot_y(angle: float) -> np.ndarray:
-    """(3, 3) rotation about +y by ``angle`` radians."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _rot_z(angle: float) -> np.ndarray:
-    """(3, 3) rotation about +z by ``angle`` radians."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def _frame(direction: np.ndarray) -> np.ndarray:
@@ -109,21 +102,6 @@ def _beam(
     s /= np.linalg.norm(s)
     rot = np.column_stack([u, s, np.cross(u, s)])
     return box((p0 + p1) / 2, (length, width, thickness), rotation=rot)
-
-
-def _rod(
-    p0: Sequence[float],
-    p1: Sequence[float],
-    r0: float,
-    r1: float | None = None,
-    segments: int = THIN,
-) -> Mesh:
-    """Round rod (a frustum) from point p0 (3,) with radius r0 to p1 (3,) with radius r1."""
-    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    d = p1 - p0
-    return frustum(
-        p0, float(np.linalg.norm(d)), r0, r0 if r1 is None else r1, segments, rotation=_frame(d)
-    )
 
 
 def _lathe(
