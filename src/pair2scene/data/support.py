@@ -27,24 +27,32 @@ PART_HOST_MARGIN_M = 0.03
 """A part belongs to an object whose box, grown by this, contains the part's centre."""
 
 
-def pick_receptacle(
-    box: OrientedBox, candidates: Sequence[tuple[str, OrientedBox | None]]
-) -> str | None:
-    """Of (id, box) candidates (box None for the floor), the one whose top is
-    nearest below ``box``'s bottom; failing that, one containing its centre
-    (a spoon inside a drawer), failing that the nearest top."""
+def pick_receptacle(box: OrientedBox, candidates: Sequence[tuple[str, OrientedBox | None]]
+                    ) -> str | None:
+    """Of (id, box) candidates (box None for the floor), the receptacle ``box`` rests on.
+
+    In order: the object receptacle whose top is nearest below ``box``'s bottom (a
+    book on a shelf, not the unit around the shelf); else the smallest one whose box
+    holds ``box``'s bottom centre (a pillow on a sofa's seat, below the backrest top;
+    an egg in a fridge); else the floor, if listed; else the nearest top.
+    """
     if not candidates:
         return None
+    objects = [(cid, b) for cid, b in candidates if b is not None]
     bottom = box.bottom
-    tops = np.array([0.0 if b is None else b.top for _, b in candidates])
-    gaps = bottom - tops
-    below = np.flatnonzero(gaps >= -RESTING_TOLERANCE_M)
-    if below.size:
-        return candidates[int(below[np.argmin(gaps[below])])][0]
-    for cid, b in candidates:
-        if b is not None and b.contains(box.center)[0]:
-            return cid
-    return candidates[int(np.argmin(np.abs(gaps)))][0]
+    if objects:
+        gaps = np.array([bottom - b.top for _, b in objects])
+        below = np.flatnonzero(gaps >= -RESTING_TOLERANCE_M)
+        if below.size:
+            return objects[int(below[np.argmin(gaps[below])])][0]
+        foot = np.array([box.center[0], box.center[1], bottom + RESTING_TOLERANCE_M / 5])
+        holding = [(float(np.prod(b.size)), cid) for cid, b in objects if b.contains(foot)[0]]
+        if holding:
+            return min(holding)[1]
+    if any(b is None for _, b in candidates):
+        return FLOOR
+    tops = np.array([b.top for _, b in objects])
+    return objects[int(np.argmin(np.abs(bottom - tops)))][0]
 
 
 def support_from_receptacles(
@@ -77,11 +85,13 @@ def support_from_receptacles(
 def resolve_part_hosts(objects: list[SceneObject]) -> list[SceneObject]:
     """Attach parts to their owner and set each object's ``support``.
 
-    The owner of a part is the smallest non-part object whose box (grown by
+    The owner of a part is the smallest furniture or fixture whose box (grown by
     PART_HOST_MARGIN_M) contains the part's centre. ``support`` is the source
     support with parts replaced by their owner; a part rests on its owner.
     """
-    hosts = [o for o in objects if o.super not in (SuperCategory.PART, SuperCategory.STRUCTURE)]
+    # Owners are furniture and fixtures: a vase standing in a shelf's box is no owner.
+    hosts = [o for o in objects
+             if o.super in (SuperCategory.LARGE_FURNITURE, SuperCategory.FIXTURE)]
     volumes = np.array([np.prod(h.box.size) for h in hosts])
     order = np.argsort(volumes, kind="stable")
     part_of: dict[str, str | None] = {}
