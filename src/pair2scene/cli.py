@@ -13,6 +13,7 @@ from typing import Annotated
 import typer
 
 from pair2scene.cli_assets import assets_app
+from pair2scene.cli_curate import curate
 from pair2scene.errors import UserError
 
 app = typer.Typer(
@@ -25,6 +26,7 @@ app = typer.Typer(
 data_app = typer.Typer(help="Scene corpora: fetch them, inspect them.", no_args_is_help=True)
 app.add_typer(data_app, name="data")
 app.add_typer(assets_app, name="assets")
+app.command("curate")(curate)
 
 
 @data_app.command("fetch")
@@ -71,7 +73,11 @@ def validate(
 def main(argv: list[str] | None = None) -> int:
     """Console entry point: maps user errors to one line and exit code 2."""
     try:
-        app(args=argv, standalone_mode=False)
+        rv = app(args=argv, standalone_mode=False)
+        if isinstance(rv, int) and rv:  # some typer releases return 130 on Ctrl-C
+            if rv == 130:
+                print("interrupted", file=sys.stderr)
+            return rv
     except UserError as e:
         print(f"error: {e}", file=sys.stderr)
         return e.exit_code

@@ -27,8 +27,9 @@ PART_HOST_MARGIN_M = 0.03
 """A part belongs to an object whose box, grown by this, contains the part's centre."""
 
 
-def pick_receptacle(box: OrientedBox, candidates: Sequence[tuple[str, OrientedBox | None]]
-                    ) -> str | None:
+def pick_receptacle(
+    box: OrientedBox, candidates: Sequence[tuple[str, OrientedBox | None]]
+) -> str | None:
     """Of (id, box) candidates (box None for the floor), the receptacle ``box`` rests on.
 
     In order: the object receptacle whose top is nearest below ``box``'s bottom (a
@@ -90,8 +91,9 @@ def resolve_part_hosts(objects: list[SceneObject]) -> list[SceneObject]:
     support with parts replaced by their owner; a part rests on its owner.
     """
     # Owners are furniture and fixtures: a vase standing in a shelf's box is no owner.
-    hosts = [o for o in objects
-             if o.super in (SuperCategory.LARGE_FURNITURE, SuperCategory.FIXTURE)]
+    hosts = [
+        o for o in objects if o.super in (SuperCategory.LARGE_FURNITURE, SuperCategory.FIXTURE)
+    ]
     volumes = np.array([np.prod(h.box.size) for h in hosts])
     order = np.argsort(volumes, kind="stable")
     part_of: dict[str, str | None] = {}

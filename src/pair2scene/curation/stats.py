@@ -1,0 +1,214 @@
+"""Statistics of curated scenes for hierarchy synthesis.
+
+- ``sup_dep[anchor][dependent]``: how often a dependent category rests on an anchor
+  category (the floor included, as ``floor``);
+- ``func_dep[support][functional anchor][dependent]``: how often a dependent has a
+  functional anchor of a category, among objects on a support of a category;
+- per room type: templates, the multisets of floor-standing furniture (with counts) that
+  rooms of that type hold, from which each category's count distribution follows, and
+  the distribution of the number of placed objects per room.
+
+"Placed objects" are those that give relation tuples (pair2scene.curation.tuples):
+objects with a support that are neither structure nor parts. Statistics are plain
+counts, so the statistics of disjoint scene sets add up exactly (:meth:`merge`).
+"""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from pair2scene.categories import SuperCategory
+from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES
+from pair2scene.errors import UserError
+from pair2scene.scene.model import FLOOR, Scene, SceneObject
+
+STATS_FORMAT = "pair2scene.hierarchy_stats"
+STATS_VERSION = 1
+
+TEMPLATE_SUPER_CATEGORIES = (SuperCategory.LARGE_FURNITURE, SuperCategory.FIXTURE)
+"""Template members: floor-standing large furniture, and fixtures because bathrooms and
+kitchens are laid out around toilets, bathtubs and counters (a bathroom holds almost no
+large furniture)."""
+
+
+def is_placed(obj: SceneObject) -> bool:
+    """True for objects that give a relation tuple (a support, not structure, not a part)."""
+    return obj.support is not None and obj.super not in SKIPPED_SUPER_CATEGORIES
+
+
+def _is_template_member(obj: SceneObject) -> bool:
+    return obj.support == FLOOR and obj.super in TEMPLATE_SUPER_CATEGORIES
+
+
+@dataclass
+class RoomTypeStats:
+    """Counts over the rooms of one type."""
+
+    rooms: int = 0
+    layouts: Counter[tuple[str, ...]] = field(default_factory=Counter)
+    """Sorted multiset of template categories (repeats kept) -> number of rooms with it."""
+    object_counts: Counter[int] = field(default_factory=Counter)
+    """Number of placed objects in a room -> number of rooms."""
+
+    def templates(self, top: int | None = None) -> list[tuple[dict[str, int], int]]:
+        """The ``top`` most frequent furniture multisets as ({category: count}, rooms),
+        most frequent first (ties by the sorted category list)."""
+        ranked = sorted(self.layouts.items(), key=lambda kv: (-kv[1], kv[0]))
+        return [(dict(sorted(Counter(k).items())), n) for k, n in ranked[:top]]
+
+    def furniture_counts(self) -> dict[str, dict[int, int]]:
+        """Per template category: instances in a room -> number of rooms (0 included)."""
+        cats = sorted({c for layout in self.layouts for c in layout})
+        out: dict[str, dict[int, int]] = {}
+        for cat in cats:
+            hist: Counter[int] = Counter()
+            for layout, n in self.layouts.items():
+                hist[layout.count(cat)] += n
+            out[cat] = dict(sorted(hist.items()))
+        return out
+
+    def add(self, other: RoomTypeStats) -> None:
+        self.rooms += other.rooms
+        self.layouts.update(other.layouts)
+        self.object_counts.update(other.object_counts)
+
+
+@dataclass
+class HierarchyStats:
+    """Support and functional dependency frequencies, templates and object counts."""
+
+    rooms: int = 0
+    sup_dep: dict[str, Counter[str]] = field(default_factory=dict)
+    """anchor category (``floor`` included) -> dependent category -> count."""
+    func_dep: dict[str, dict[str, Counter[str]]] = field(default_factory=dict)
+    """support category -> functional anchor category -> dependent category -> count."""
+    room_types: dict[str, RoomTypeStats] = field(default_factory=dict)
+
+    # -- fitting ------------------------------------------------------------------
+    @classmethod
+    def fit(cls, scenes: Iterable[Scene]) -> HierarchyStats:
+        """Count over ``scenes`` (curated: ``support`` and ``functional_anchor`` set)."""
+        stats = cls()
+        for scene in scenes:
+            stats._add_scene(scene)
+        return stats
+
+    def _add_scene(self, scene: Scene) -> None:
+        by_id = scene.by_id()
+
+        def cat_of(ref: str) -> str | None:
+            if ref == FLOOR:
+                return FLOOR
+            obj = by_id.get(ref)
+            return None if obj is None else obj.category
+
+        placed = [o for o in scene.objects if is_placed(o)]
+        for o in placed:
+            anchor = cat_of(o.support)
+            if anchor is None:
+                continue
+            self.sup_dep.setdefault(anchor, Counter())[o.category] += 1
+            func = None if o.functional_anchor is None else cat_of(o.functional_anchor)
+            if func is not None:
+                per_support = self.func_dep.setdefault(anchor, {})
+                per_support.setdefault(func, Counter())[o.category] += 1
+        room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
+        room.rooms += 1
+        room.layouts[tuple(sorted(o.category for o in placed if _is_template_member(o)))] += 1
+        room.object_counts[len(placed)] += 1
+        self.rooms += 1
+
+    @classmethod
+    def merge(cls, parts: Iterable[HierarchyStats]) -> HierarchyStats:
+        """The statistics of the union of the (disjoint) scene sets of ``parts``."""
+        out = cls()
+        for p in parts:
+            out.rooms += p.rooms
+            for anchor, deps in p.sup_dep.items():
+                out.sup_dep.setdefault(anchor, Counter()).update(deps)
+            for sup, per_func in p.func_dep.items():
+                dst = out.func_dep.setdefault(sup, {})
+                for func, deps in per_func.items():
+                    dst.setdefault(func, Counter()).update(deps)
+            for rtype, rs in p.room_types.items():
+                out.room_types.setdefault(rtype, RoomTypeStats()).add(rs)
+        return out
+
+    # -- queries ------------------------------------------------------------------
+    def templates(self, room_type: str, top: int | None = None) -> list[tuple[dict[str, int], int]]:
+        """Most frequent furniture multisets of ``room_type`` (see RoomTypeStats.templates)."""
+        rs = self.room_types.get(room_type)
+        return [] if rs is None else rs.templates(top)
+
+    # -- JSON ---------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain JSON-able dict with sorted keys (integer keys written as strings)."""
+
+        def counts(c: Counter) -> dict:
+            return {str(k): int(v) for k, v in sorted(c.items())}
+
+        room_types = {}
+        for rtype, rs in sorted(self.room_types.items()):
+            room_types[rtype] = {
+                "rooms": rs.rooms,
+                "templates": [{"furniture": f, "rooms": n} for f, n in rs.templates()],
+                "furniture_counts": {
+                    cat: {str(k): v for k, v in hist.items()}
+                    for cat, hist in rs.furniture_counts().items()
+                },
+                "object_counts": counts(rs.object_counts),
+            }
+        return {
+            "format": STATS_FORMAT,
+            "version": STATS_VERSION,
+            "rooms": self.rooms,
+            "template_super_categories": [s.value for s in TEMPLATE_SUPER_CATEGORIES],
+            "sup_dep": {a: counts(d) for a, d in sorted(self.sup_dep.items())},
+            "func_dep": {
+                s: {f: counts(d) for f, d in sorted(pf.items())}
+                for s, pf in sorted(self.func_dep.items())
+            },
+            "room_types": room_types,
+        }
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=1) + "\n"
+
+    @classmethod
+    def from_dict(cls, doc: dict, where: str = "stats") -> HierarchyStats:
+        """Inverse of :meth:`to_dict`; a wrong format or version is a UserError."""
+        if not isinstance(doc, dict) or doc.get("format") != STATS_FORMAT:
+            raise UserError(f"{where}: not a {STATS_FORMAT} file")
+        if doc.get("version") != STATS_VERSION:
+            raise UserError(
+                f"{where}: version {doc.get('version')!r} not supported (expected {STATS_VERSION})"
+            )
+        try:
+            out = cls(rooms=int(doc["rooms"]))
+            for a, deps in doc["sup_dep"].items():
+                out.sup_dep[a] = Counter({k: int(v) for k, v in deps.items()})
+            for s, pf in doc["func_dep"].items():
+                out.func_dep[s] = {
+                    f: Counter({k: int(v) for k, v in d.items()}) for f, d in pf.items()
+                }
+            for rtype, rd in doc["room_types"].items():
+                rs = RoomTypeStats(rooms=int(rd["rooms"]))
+                for t in rd["templates"]:
+                    key = tuple(sorted(c for c, n in t["furniture"].items() for _ in range(int(n))))
+                    rs.layouts[key] += int(t["rooms"])
+                rs.object_counts = Counter({int(k): int(v) for k, v in rd["object_counts"].items()})
+                out.room_types[rtype] = rs
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            raise UserError(f"{where}: malformed statistics ({type(e).__name__}: {e})") from None
+        return out
+
+    @classmethod
+    def from_json(cls, text: str, where: str = "stats") -> HierarchyStats:
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as e:
+            raise UserError(f"{where}: not valid JSON ({e.msg})") from None
+        return cls.from_dict(doc, where)

@@ -1,0 +1,123 @@
+"""Hierarchy statistics on a tiny scene set: known counts, merging, JSON round trip."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from pair2scene.curation.stats import STATS_FORMAT, HierarchyStats
+from pair2scene.errors import UserError
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+
+ROOM = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+
+
+def room(scene_id: str, room_type: str, spec: list[tuple]) -> Scene:
+    """spec: (id, category, support, functional anchor)."""
+    objects = [
+        SceneObject(oid, cat, OrientedBox.from_yaw([1, 1, 0.5], [0.5, 0.5, 1.0]), None, sup, fa)
+        for oid, cat, sup, fa in spec
+    ]
+    return Scene(scene_id, Room(room_type, ROOM), objects, source="test", split="train")
+
+
+def scenes() -> list[Scene]:
+    bed_a = room("bed_a", "bedroom", [
+        ("bed_0", "bed", FLOOR, None),
+        ("side_0", "side_table", FLOOR, "bed_0"),
+        ("side_1", "side_table", FLOOR, "bed_0"),
+        ("lamp_0", "table_lamp", "side_0", None),
+        ("book_0", "book", "side_1", None),
+        ("painting_0", "painting", None, None),          # no support: not placed
+        ("drawer_0", "drawer", "side_0", None),          # part: not placed
+    ])  # fmt: skip
+    bed_b = room("bed_b", "bedroom", [
+        ("bed_0", "bed", FLOOR, None),
+        ("side_0", "side_table", FLOOR, "bed_0"),
+        ("side_1", "side_table", FLOOR, "bed_0"),
+        ("lamp_0", "table_lamp", "side_0", None),
+    ])  # fmt: skip
+    kitchen = room("kitchen_a", "kitchen", [
+        ("counter_0", "counter_top", FLOOR, None),
+        ("fridge_0", "fridge", FLOOR, None),
+        ("plate_0", "plate", "counter_0", None),
+        ("fork_0", "fork", "counter_0", "plate_0"),
+        ("mug_0", "mug", FLOOR, None),                   # small object on the floor: no template
+    ])  # fmt: skip
+    return [bed_a, bed_b, kitchen]
+
+
+def test_counts():
+    stats = HierarchyStats.fit(scenes())
+    assert stats.rooms == 3
+    assert stats.sup_dep[FLOOR] == {
+        "bed": 2, "side_table": 4, "counter_top": 1, "fridge": 1, "mug": 1
+    }  # fmt: skip
+    assert stats.sup_dep["side_table"] == {"table_lamp": 2, "book": 1}
+    assert stats.sup_dep["counter_top"] == {"plate": 1, "fork": 1}
+    assert "painting" not in str(stats.sup_dep) and "drawer" not in str(stats.sup_dep)
+    assert stats.func_dep == {
+        FLOOR: {"bed": {"side_table": 4}}, "counter_top": {"plate": {"fork": 1}}
+    }  # fmt: skip
+
+    bedroom = stats.room_types["bedroom"]
+    assert bedroom.rooms == 2
+    assert stats.templates("bedroom") == [({"bed": 1, "side_table": 2}, 2)]
+    assert bedroom.furniture_counts() == {"bed": {1: 2}, "side_table": {2: 2}}
+    assert bedroom.object_counts == {5: 1, 4: 1}
+    assert stats.templates("kitchen") == [({"counter_top": 1, "fridge": 1}, 1)]
+    assert stats.room_types["kitchen"].object_counts == {5: 1}
+    assert stats.templates("bathroom") == []
+
+
+def test_templates_rank_and_count_distributions():
+    rooms = [
+        room(f"r{i}", "living_room", [(f"s{i}", "sofa", FLOOR, None)] + extra)
+        for i, extra in enumerate(
+            [[], [], [("a", "armchair", FLOOR, None)], [("a", "armchair", FLOOR, None),
+                                                        ("b", "armchair", FLOOR, None)]]
+        )
+    ]  # fmt: skip
+    rs = HierarchyStats.fit(rooms).room_types["living_room"]
+    assert rs.templates() == [
+        ({"sofa": 1}, 2),
+        ({"armchair": 2, "sofa": 1}, 1),
+        ({"armchair": 1, "sofa": 1}, 1),
+    ]  # ties: by the sorted category list
+    assert rs.templates(top=1) == [({"sofa": 1}, 2)]
+    assert rs.furniture_counts() == {"armchair": {0: 2, 1: 1, 2: 1}, "sofa": {1: 4}}
+
+
+def test_merge_equals_fit_of_the_union():
+    s = scenes()
+    merged = HierarchyStats.merge([HierarchyStats.fit(s[:1]), HierarchyStats.fit(s[1:])])
+    assert merged.to_dict() == HierarchyStats.fit(s).to_dict()
+
+
+def test_json_round_trip():
+    stats = HierarchyStats.fit(scenes())
+    text = stats.to_json()
+    doc = json.loads(text)
+    assert doc["format"] == STATS_FORMAT and doc["version"] == 1
+    assert doc["room_types"]["bedroom"]["object_counts"] == {"4": 1, "5": 1}
+    assert doc["room_types"]["bedroom"]["furniture_counts"]["side_table"] == {"2": 2}
+    back = HierarchyStats.from_json(text)
+    assert back.to_json() == text
+    assert back.sup_dep == stats.sup_dep and back.func_dep == stats.func_dep
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("{nope", "not valid JSON"),
+        ('{"format": "other"}', "not a pair2scene.hierarchy_stats file"),
+        (json.dumps({"format": STATS_FORMAT, "version": 99}), "version 99"),
+        (json.dumps({"format": STATS_FORMAT, "version": 1}), "malformed statistics"),
+    ],
+)
+def test_bad_json_is_a_user_error(text, message):
+    with pytest.raises(UserError, match=message):
+        HierarchyStats.from_json(text, "stats.json")
