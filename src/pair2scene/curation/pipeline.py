@@ -371,7 +371,7 @@ def _chunk_meta(label: str, results: list[SceneResult], stats_splits: Sequence[s
     resumed run does not redo it. No timings: equal input gives an equal manifest."""
     dropped_reasons: Counter[str] = Counter()
     for r in results:
-        dropped_reasons.update(reason.split(" ", 1)[0] for reason in r.dropped.values())
+        dropped_reasons.update(reason.split(" ", 1)[0].rstrip(":") for reason in r.dropped.values())
     scored = [r for r in results if r.support_counts is not None]
     errors: Counter[str] = Counter()
     for r in scored:
