@@ -186,17 +186,11 @@ def section(gen: GenerationFigures, pointcloud: str, render: tuple[str, str, str
 
 
 def write_section(doc: Path, text: str) -> None:
-    """Replace the ``## Assets`` section of ``doc`` (up to the next ``## ``) with ``text``."""
+    """Replace this script's section of ``doc`` with ``text`` (benchmarks/_docs.py)."""
     sys.path.insert(0, str(ROOT / "src"))
-    from pair2scene.io.atomic import atomic_write_text
+    from _docs import replace_section
 
-    old = doc.read_text(encoding="utf-8") if doc.exists() else "# Benchmarks\n"
-    pattern = re.compile(rf"^{re.escape(SECTION)}\s*$.*?(?=^## |\Z)", re.MULTILINE | re.DOTALL)
-    if pattern.search(old):
-        new = pattern.sub(lambda _: text + "\n", old, count=1)
-    else:
-        new = old.rstrip("\n") + "\n\n" + text
-    atomic_write_text(doc, new.rstrip("\n") + "\n")
+    replace_section(doc, SECTION, text)
 
 
 def main(argv: list[str] | None = None) -> int:

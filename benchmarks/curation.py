@@ -189,16 +189,10 @@ def section(full: dict | None, load: dict, command: str) -> str:
 
 
 def write_section(doc: Path, text: str) -> None:
-    """Replace the ``## Curation`` section of ``doc`` (up to the next ``## ``) with ``text``."""
-    from pair2scene.io.atomic import atomic_write_text
+    """Replace this script's section of ``doc`` with ``text`` (benchmarks/_docs.py)."""
+    from _docs import replace_section
 
-    old = doc.read_text(encoding="utf-8") if doc.exists() else "# Benchmarks\n"
-    pattern = re.compile(rf"^{re.escape(SECTION)}\s*$.*?(?=^## |\Z)", re.MULTILINE | re.DOTALL)
-    if pattern.search(old):
-        new = pattern.sub(lambda _: text + "\n", old, count=1)
-    else:
-        new = old.rstrip("\n") + "\n\n" + text
-    atomic_write_text(doc, new.rstrip("\n") + "\n")
+    replace_section(doc, SECTION, text)
 
 
 def main(argv: list[str] | None = None) -> int:
