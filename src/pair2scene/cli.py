@@ -14,6 +14,7 @@ import typer
 
 from pair2scene.cli_assets import assets_app
 from pair2scene.cli_curate import curate
+from pair2scene.cli_model import score_command
 from pair2scene.errors import UserError
 
 app = typer.Typer(
@@ -27,6 +28,8 @@ data_app = typer.Typer(help="Scene corpora: fetch them, inspect them.", no_args_
 app.add_typer(data_app, name="data")
 app.add_typer(assets_app, name="assets")
 app.command("curate")(curate)
+
+app.command("score")(score_command)
 
 
 @data_app.command("fetch")

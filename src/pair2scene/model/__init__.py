@@ -1,0 +1,1 @@
+"""The learned layout model: geometry encoder, layout predictor, mixture-of-logistics head."""

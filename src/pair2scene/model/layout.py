@@ -1,0 +1,542 @@
+"""Layout predictor: the dependent's box given its tuple, as a mixture of logistics.
+
+One relation tuple ``<dependent, support anchor, optional functional anchor>``
+goes in; the distribution of the dependent's 12-d box in the support anchor's
+canonical frame comes out (:mod:`pair2scene.model.mixture` owns that target
+convention). The network, as the method defines it:
+
+- every member of the tuple is Q learned query tokens (paper: Q = 4), plus the
+  member's category embedding and an MLP of its log size (clouds are
+  normalised, so the size is carried here);
+- N blocks (paper: 7, width 512), each
+  1. *relational self-attention* over all members' tokens (M*Q tokens, absent
+     members masked out as keys). Each anchor's box goes through an MLP into a
+     spatial embedding that is added to the keys and values, not the queries:
+     a token asks "what" and hears "what, and where". The dependent's box is
+     the unknown, so it gets a learned "unknown box" embedding instead;
+  2. *geometry-aware cross-attention*: each member's tokens attend to that
+     member's own point tokens only (members are folded into the batch: the P
+     present members' ``(P, Q, D)`` attend to their ``(P, G, D)``; absent
+     members get no update). Within a block, one member's geometry therefore
+     reaches another member only through the next block's self-attention;
+  3. an MLP; all three pre-norm with residuals;
+- a head maps the dependent's Q tokens (flattened) to the K*(1+2*12) raw
+  mixture parameters.
+
+Loss: mean NLL of the target plus the entropy term of :func:`mixture.loss`.
+
+What the trainer feeds, per variant (``LayoutBatch``; M = 3 members:
+0 dependent, 1 support anchor, 2 functional anchor)
+--------------------------------------------------------------------------
+
+``full`` (the method) and ``no-pretrain``:
+    points         (B, 3, N, 3) each member's cloud in its local frame, normalised by
+                   ``pointmae.normalise_points`` (the floor's cloud is the room's, walls
+                   included); or, when the encoder is frozen, ``point_tokens`` (B, 3, G,
+                   D_enc) / ``point_centers`` (B, 3, G, 3) computed once per distinct
+                   cloud by that encoder in eval mode (the ``cpu`` budget assumes this).
+    scales         (B, 3, 3) each member's world box size in metres (the floor's: the
+                   room's bounds).
+    categories     (B, 3) index into :data:`CATEGORY_VOCAB` (the floor is ``floor``);
+                   -1 or anything for an absent member.
+    anchor_boxes   (B, 2, 12) support and functional anchors' boxes in the support
+                   anchor's canonical frame, stored layout (centre, *size*, 6D): row 0
+                   is therefore always the unit cube ``(0,0,0, 2,2,2, 1,0,0, 0,1,0)``;
+                   row 1 is ``from_vector(func_box).in_frame_of(from_vector(sup_box))``
+                   (shards hold world boxes), anything (NaN too) without a functional
+                   anchor.
+    member_mask    (B, 3) bool, columns 0 and 1 True, column 2: functional anchor present.
+    target         (B, 12) the dependent's canonical box as a model target (centre, *log*
+                   size, 6D): ``mixture.target_from_box_vector(shard["canonical"])``.
+    ``no-pretrain`` differs only in the encoder: built with random weights and trained
+    with the predictor (:attr:`LayoutConfig.trains_encoder`); it needs raw points.
+
+``class-only``:
+    as ``full`` without ``points`` (pass None): no point encoder, no cross-attention;
+    the categories (and sizes) carry each member's identity.
+
+``global`` (no relations: the room alone places the dependent):
+    members are the dependent and the room; the functional anchor is ignored.
+    points[:, 1]    the room's (the floor's) cloud; scales[:, 1] the room's size;
+    categories[:, 1] ``floor``; anchor_boxes[:, 0] the room's bounds in *world*
+    coordinates (centre, size, 6D: a floor tuple's ``sup_box`` of the same scene);
+    target the dependent's *world* box as a model target
+    (``target_from_box_vector(shard["dep_box"])``), for every tuple, whatever its
+    support. Columns/rows for the functional anchor are ignored (member_mask[:, 2]
+    included). At generation time the samples are world boxes.
+
+Absent members' inputs never reach the output: their category, size and box are
+replaced by zeros, their clouds are never encoded (so NaN placeholders are fine),
+and their tokens are masked out as keys of the self-attention.
+
+Training notes: when the encoder is frozen (:attr:`LayoutConfig.trains_encoder`
+False) its parameters have ``requires_grad`` False; build the optimiser from
+``[p for p in model.parameters() if p.requires_grad]``. Dropout, if configured,
+draws from torch's global generator.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from enum import Enum
+from typing import NamedTuple
+
+import torch
+import torch.nn.functional as F
+from torch import Tensor, nn
+
+from pair2scene.curation.dataset import CATEGORY_VOCAB
+from pair2scene.model import mixture
+from pair2scene.model.mixture import (
+    BOX_DIM,
+    MIN_TARGET_SIZE,
+    LossParts,
+    MixtureConfig,
+    MixtureParams,
+    mixture_params_from_head,
+    target_from_box_vector,
+)
+
+N_MEMBERS = 3
+"""Tuple members, in this order: dependent, support anchor, functional anchor."""
+DEPENDENT, SUPPORT, FUNCTIONAL = 0, 1, 2
+HEAD_INIT_STD = 0.02
+"""Std of the head's output layer at initialisation: raw outputs start near 0, i.e.
+uniform weights, locations near 0 and log scales near 0 (unit-scale logistics)."""
+
+
+class LayoutVariant(str, Enum):
+    """The method and its ablations (see the module docstring for what each is fed)."""
+
+    FULL = "full"
+    """The method: pretrained point encoder, relations to both anchors."""
+    CLASS_ONLY = "class-only"
+    """No geometry: category embeddings (and sizes) instead of point features."""
+    NO_PRETRAIN = "no-pretrain"
+    """As full, but the point encoder starts from random weights and trains."""
+    GLOBAL = "global"
+    """No relations: the dependent and the room only, world-frame targets."""
+
+
+@dataclass(frozen=True)
+class LayoutConfig:
+    """Hyper-parameters of :class:`LayoutPredictor`."""
+
+    width: int = 512
+    """D, the token width (paper: 512)."""
+    depth: int = 7
+    """Number of blocks (paper: 7)."""
+    heads: int = 8
+    """Attention heads in both attentions; must divide ``width``."""
+    queries: int = 4
+    """Q, learned query tokens per member (paper: 4)."""
+    mlp_ratio: int = 4
+    """Hidden width of each block's MLP, in multiples of ``width``."""
+    point_dim: int = 384
+    """Width of the point encoder's tokens (``PointMAEEncoder``'s D_enc); they are
+    projected to ``width``. Unused by ``class-only``."""
+    n_categories: int = len(CATEGORY_VOCAB)
+    """Rows of the category embedding: the canonical categories, then ``unknown``."""
+    dropout: float = 0.0
+    """Dropout on attention weights and residual branches. Draws from torch's global
+    generator (nn.Dropout has no other), so keep 0 where runs must be byte-identical."""
+    mixture: MixtureConfig = field(default_factory=MixtureConfig)
+    """The output distribution: K components (paper: 4) over the 12-d box, the log-scale
+    bounds, and lambda / sign of the entropy regulariser."""
+    variant: LayoutVariant = LayoutVariant.FULL
+    """Which network: the method or one of its ablations."""
+    finetune_encoder: bool = False
+    """``full`` / ``global``: also train the pretrained encoder (False keeps it frozen,
+    in eval mode, and lets the trainer cache its tokens). ``no-pretrain`` always trains
+    it."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "variant", LayoutVariant(self.variant))
+        if self.width % self.heads:
+            raise ValueError(f"heads ({self.heads}) must divide width ({self.width})")
+        if min(self.width, self.depth, self.heads, self.queries, self.mlp_ratio) < 1:
+            raise ValueError("width, depth, heads, queries and mlp_ratio must be >= 1")
+        if self.mixture.dim != BOX_DIM:
+            raise ValueError(
+                f"the layout head models a {BOX_DIM}-d box, got dim {self.mixture.dim}"
+            )
+
+    @property
+    def n_members(self) -> int:
+        """Members the network sees: 2 for ``global`` (dependent, room), else 3."""
+        return 2 if self.variant is LayoutVariant.GLOBAL else N_MEMBERS
+
+    @property
+    def uses_points(self) -> bool:
+        """Whether the network has a point encoder and cross-attention."""
+        return self.variant is not LayoutVariant.CLASS_ONLY
+
+    @property
+    def loads_pretrained_encoder(self) -> bool:
+        """Whether the trainer loads pretrained Point-MAE weights into the encoder."""
+        return self.variant in (LayoutVariant.FULL, LayoutVariant.GLOBAL)
+
+    @property
+    def trains_encoder(self) -> bool:
+        """Whether the encoder's weights get gradients (else frozen, eval mode)."""
+        if self.variant is LayoutVariant.NO_PRETRAIN:
+            return True
+        return self.uses_points and self.finetune_encoder
+
+    def with_variant(self, variant: LayoutVariant | str) -> LayoutConfig:
+        """The same sizes for another variant."""
+        return replace(self, variant=LayoutVariant(variant))
+
+
+@dataclass
+class LayoutBatch:
+    """A batch of relation tuples as tensors (see the module docstring per variant).
+
+    Either ``points`` or ``point_tokens`` + ``point_centers`` (cached encoder output)
+    feed the geometry; ``class-only`` needs neither.
+    """
+
+    categories: Tensor
+    """(B, 3) long: category index per member (any value for an absent member)."""
+    scales: Tensor
+    """(B, 3, 3) float: each member's box size (full extent, metres)."""
+    anchor_boxes: Tensor
+    """(B, 2, 12) float: support and functional anchors' boxes (centre, size, 6D) in the
+    support anchor's canonical frame (``global``: row 0 is the room in world frame)."""
+    member_mask: Tensor
+    """(B, 3) bool: member present (columns 0, 1 always True)."""
+    points: Tensor | None = None
+    """(B, 3, N, 3) float: each member's normalised point cloud."""
+    point_tokens: Tensor | None = None
+    """(B, 3, G, D_enc) float: the encoder's tokens of each member's cloud."""
+    point_centers: Tensor | None = None
+    """(B, 3, G, 3) float: the encoder's group centres of each member's cloud."""
+    target: Tensor | None = None
+    """(B, 12) float: the dependent's box as a model target (centre, log size, 6D)."""
+
+    @property
+    def batch_size(self) -> int:
+        return self.categories.shape[0]
+
+    def to(self, device: torch.device | str) -> LayoutBatch:
+        """The batch with every tensor on ``device``."""
+        moved = {
+            name: (None if value is None else value.to(device))
+            for name, value in self.__dict__.items()
+        }
+        return LayoutBatch(**moved)
+
+
+class PointMemory(NamedTuple):
+    """The point tokens of the present members, the keys and values of the cross-attention."""
+
+    tokens: Tensor
+    """(P, G, D) projected point tokens of the P present members."""
+    rows: Tensor
+    """(P,) long: each one's row in the flattened members ``b * M + m``."""
+
+
+# -- building blocks -----------------------------------------------------------------
+
+
+class MLP(nn.Module):
+    """Linear -> GELU -> Linear."""
+
+    def __init__(self, d_in: int, d_hidden: int, d_out: int, dropout: float = 0.0) -> None:
+        super().__init__()
+        self.fc = nn.Linear(d_in, d_hidden)
+        self.proj = nn.Linear(d_hidden, d_out)
+        self.dropout = nn.Dropout(dropout)
+
+    def forward(self, x: Tensor) -> Tensor:
+        return self.dropout(self.proj(F.gelu(self.fc(x))))
+
+
+class RelationalSelfAttention(nn.Module):
+    """Self-attention over all members' tokens; anchors' spatial embeddings join the keys
+    and values only."""
+
+    def __init__(self, config: LayoutConfig) -> None:
+        super().__init__()
+        self.heads = config.heads
+        self.dropout = config.dropout
+        self.q = nn.Linear(config.width, config.width)
+        self.kv = nn.Linear(config.width, 2 * config.width)
+        self.proj = nn.Linear(config.width, config.width)
+        self.resid_dropout = nn.Dropout(config.dropout)
+
+    def forward(self, x: Tensor, spatial: Tensor, key_mask: Tensor) -> Tensor:
+        """x, spatial : (B, T, D); key_mask : (B, T) bool, False for absent members."""
+        b, t, d = x.shape
+        hs = d // self.heads
+        q = self.q(x).view(b, t, self.heads, hs).transpose(1, 2)  # (B, nh, T, hs)
+        k, v = self.kv(x + spatial).split(d, dim=-1)
+        k = k.view(b, t, self.heads, hs).transpose(1, 2)  # (B, nh, T, hs)
+        v = v.view(b, t, self.heads, hs).transpose(1, 2)  # (B, nh, T, hs)
+        y = F.scaled_dot_product_attention(
+            q,
+            k,
+            v,
+            attn_mask=key_mask[:, None, None, :],  # (B, 1, 1, T)
+            dropout_p=self.dropout if self.training else 0.0,
+        )
+        y = y.transpose(1, 2).reshape(b, t, d)  # (B, T, D)
+        return self.resid_dropout(self.proj(y))
+
+
+class CrossAttention(nn.Module):
+    """Each row's query tokens attend to that row's memory tokens."""
+
+    def __init__(self, config: LayoutConfig) -> None:
+        super().__init__()
+        self.heads = config.heads
+        self.dropout = config.dropout
+        self.q = nn.Linear(config.width, config.width)
+        self.kv = nn.Linear(config.width, 2 * config.width)
+        self.proj = nn.Linear(config.width, config.width)
+        self.resid_dropout = nn.Dropout(config.dropout)
+
+    def forward(self, x: Tensor, memory: Tensor) -> Tensor:
+        """x : (R, Q, D) queries; memory : (R, G, D), row r attends to memory[r] only."""
+        r, nq, d = x.shape
+        g = memory.shape[1]
+        hs = d // self.heads
+        q = self.q(x).view(r, nq, self.heads, hs).transpose(1, 2)  # (R, nh, Q, hs)
+        k, v = self.kv(memory).split(d, dim=-1)
+        k = k.view(r, g, self.heads, hs).transpose(1, 2)  # (R, nh, G, hs)
+        v = v.view(r, g, self.heads, hs).transpose(1, 2)  # (R, nh, G, hs)
+        y = F.scaled_dot_product_attention(
+            q, k, v, dropout_p=self.dropout if self.training else 0.0
+        )
+        y = y.transpose(1, 2).reshape(r, nq, d)  # (R, Q, D)
+        return self.resid_dropout(self.proj(y))
+
+
+class LayoutBlock(nn.Module):
+    """Relational self-attention, then per-member cross-attention to its points, then MLP."""
+
+    def __init__(self, config: LayoutConfig) -> None:
+        super().__init__()
+        self.queries = config.queries
+        self.ln_self = nn.LayerNorm(config.width)
+        self.self_attn = RelationalSelfAttention(config)
+        self.ln_cross = nn.LayerNorm(config.width) if config.uses_points else None
+        self.cross_attn = CrossAttention(config) if config.uses_points else None
+        self.ln_mlp = nn.LayerNorm(config.width)
+        self.mlp = MLP(config.width, config.mlp_ratio * config.width, config.width, config.dropout)
+
+    def forward(
+        self, x: Tensor, spatial: Tensor, key_mask: Tensor, memory: PointMemory | None
+    ) -> Tensor:
+        """x, spatial : (B, M*Q, D); key_mask : (B, M*Q) bool; memory : the present
+        members' point tokens (None without cross-attention)."""
+        b, t, d = x.shape
+        x = x + self.self_attn(self.ln_self(x), spatial, key_mask)
+        if self.cross_attn is not None:
+            if memory is None:
+                raise ValueError("this block cross-attends to point tokens: memory is None")
+            h = self.ln_cross(x).reshape(b * t // self.queries, self.queries, d)  # (B*M, Q, D)
+            y = self.cross_attn(h[memory.rows], memory.tokens)  # (P, Q, D)
+            # Absent members have nothing to attend to: their rows get no update.
+            y = h.new_zeros(h.shape).index_copy(0, memory.rows, y)  # (B*M, Q, D)
+            x = x + y.reshape(b, t, d)  # (B, M*Q, D)
+        return x + self.mlp(self.ln_mlp(x))
+
+
+# -- the predictor -------------------------------------------------------------------
+
+
+class LayoutPredictor(nn.Module):
+    """P(dependent's box | tuple) as a mixture of logistics.
+
+    config : the sizes and the variant.
+    point_encoder : maps clouds (R, N, 3) to (tokens (R, G, point_dim), centres (R, G, 3))
+        (``PointMAEEncoder``); required to feed raw ``points``, unused by ``class-only``
+        and when batches carry cached ``point_tokens``. It is taken as built: load
+        pretrained weights into it before or after, the predictor never re-initialises
+        it. When ``config.trains_encoder`` is False it is frozen and kept in eval mode.
+    generator : initialises the predictor's own weights (None: seed 0), so equal
+        generators give byte-identical models.
+    """
+
+    def __init__(
+        self,
+        config: LayoutConfig,
+        point_encoder: nn.Module | None = None,
+        generator: torch.Generator | None = None,
+    ) -> None:
+        super().__init__()
+        self.config = config
+        c = config
+        # Built on the meta device and initialised from ``generator`` below: the
+        # global RNG is neither read nor advanced.
+        with torch.device("meta"):
+            self.member_queries = nn.Parameter(torch.empty(N_MEMBERS, c.queries, c.width))
+            self.category = nn.Embedding(c.n_categories, c.width)
+            self.size_mlp = MLP(3, c.width, c.width)
+            self.box_mlp = MLP(BOX_DIM, c.width, c.width)
+            self.unknown_box = nn.Parameter(torch.empty(c.width))
+            if c.uses_points:
+                self.point_proj = nn.Linear(c.point_dim, c.width)
+                self.point_pos = MLP(3, c.width, c.width)
+                self.ln_points = nn.LayerNorm(c.width)
+            self.blocks = nn.ModuleList(LayoutBlock(c) for _ in range(c.depth))
+            self.ln_f = nn.LayerNorm(c.width)
+            self.head = MLP(c.queries * c.width, c.width, c.mixture.head_dim)
+        self.to_empty(device="cpu")
+        self._init_weights(torch.Generator().manual_seed(0) if generator is None else generator)
+
+        self.point_encoder = point_encoder if c.uses_points else None
+        if self.point_encoder is not None and not c.trains_encoder:
+            self.point_encoder.requires_grad_(False)
+            self.point_encoder.eval()
+
+    def _init_weights(self, generator: torch.Generator) -> None:
+        """Truncated normal weights with std 1/sqrt(fan_in) (unit gain), residual
+        projections further scaled by 1/sqrt(2 * depth) (GPT-2), zero biases, unit layer
+        norms; the head's output layer at std 0.02, so training starts from a wide,
+        near-uniform mixture centred at 0.
+
+        Not GPT-2's flat 0.02: that suits widths near 768; at width 128 it makes every
+        branch ~5x weaker than unit gain, and information that has to cross a value
+        and an output projection (an anchor's box reaching the dependent) is then the
+        product of several tiny weights: measured on a synthetic copy task, the
+        predictor took hundreds of steps to start using the anchor at all."""
+
+        def normal(p: Tensor, s: float) -> None:
+            nn.init.trunc_normal_(p, 0.0, s, -2 * s, 2 * s, generator=generator)
+
+        depth_scale = 1.0 / math.sqrt(2 * self.config.depth)
+        for name, module in self.named_modules():
+            if isinstance(module, nn.LayerNorm):
+                nn.init.ones_(module.weight)
+                nn.init.zeros_(module.bias)
+            elif isinstance(module, nn.Linear):
+                s = 1.0 / math.sqrt(module.in_features)
+                if name == "head.proj":
+                    s = HEAD_INIT_STD
+                elif name.startswith("blocks.") and name.endswith("proj"):
+                    s *= depth_scale  # one residual projection per sub-layer per block
+                normal(module.weight, s)
+                nn.init.zeros_(module.bias)
+            elif isinstance(module, nn.Embedding):
+                normal(module.weight, 1.0)
+        normal(self.member_queries, 1.0)
+        normal(self.unknown_box, 1.0)  # like the box MLP's output: O(1) per element
+
+    def train(self, mode: bool = True) -> LayoutPredictor:
+        super().train(mode)
+        if self.point_encoder is not None and not self.config.trains_encoder:
+            self.point_encoder.eval()
+        return self
+
+    def num_parameters(self, include_encoder: bool = False) -> int:
+        """Parameter count of the predictor (and of the injected encoder if asked)."""
+        enc = set() if self.point_encoder is None else set(self.point_encoder.parameters())
+        return sum(p.numel() for p in self.parameters() if include_encoder or p not in enc)
+
+    # -- inputs -> tokens ------------------------------------------------------------
+
+    def _point_memory(self, batch: LayoutBatch, mask: Tensor) -> PointMemory:
+        """The present members' point tokens, projected to the model width.
+
+        Absent members' clouds (or cached tokens) are never read, so placeholders of any
+        value (NaN included) are fine.
+        """
+        m = mask.shape[1]
+        rows = mask.reshape(-1).nonzero().squeeze(1)  # (P,) present rows of B*M
+        if batch.point_tokens is not None:
+            if self.config.trains_encoder:
+                raise ValueError(
+                    "the encoder trains in this configuration: pass raw points, not "
+                    "cached point_tokens"
+                )
+            if batch.point_centers is None:
+                raise ValueError("point_tokens need point_centers")
+            tokens = batch.point_tokens[:, :m].flatten(0, 1)[rows]  # (P, G, Denc)
+            centers = batch.point_centers[:, :m].flatten(0, 1)[rows]  # (P, G, 3)
+        else:
+            if batch.points is None:
+                raise ValueError(f"variant {self.config.variant.value!r} needs points")
+            if self.point_encoder is None:
+                raise ValueError("raw points need a point_encoder (or pass point_tokens)")
+            clouds = batch.points[:, :m].flatten(0, 1)[rows]  # (P, N, 3)
+            grad = torch.is_grad_enabled() and self.config.trains_encoder
+            with torch.set_grad_enabled(grad):
+                tokens, centers = self.point_encoder(clouds)  # (P, G, Denc), (P, G, 3)
+        if tokens.shape[-1] != self.config.point_dim:
+            raise ValueError(
+                f"point tokens have width {tokens.shape[-1]}, config.point_dim is "
+                f"{self.config.point_dim}"
+            )
+        tokens = self.ln_points(self.point_proj(tokens) + self.point_pos(centers))  # (P, G, D)
+        return PointMemory(tokens, rows)
+
+    def forward(self, batch: LayoutBatch) -> tuple[MixtureParams, Tensor | None]:
+        """Mixture parameters per tuple, and the loss when ``batch.target`` is given."""
+        c = self.config
+        m, q, d = c.n_members, c.queries, c.width
+        b = batch.batch_size
+        _check_shapes(batch)
+        mask = batch.member_mask[:, :m].bool()  # (B, M)
+
+        # Member tokens: role queries + category + size; absent members' inputs zeroed.
+        cats = torch.where(mask, batch.categories[:, :m], 0)
+        log_size = torch.where(
+            mask[..., None], batch.scales[:, :m].clamp_min(MIN_TARGET_SIZE).log(), 0.0
+        )
+        ident = self.category(cats) + self.size_mlp(log_size)  # (B, M, D)
+        x = self.member_queries[:m] + ident[:, :, None, :]  # (B, M, Q, D)
+        x = x.reshape(b, m * q, d)  # (B, M*Q, D)
+
+        # Spatial embeddings: the dependent's box is the unknown; anchors' boxes via MLP.
+        boxes = target_from_box_vector(
+            torch.where(mask[:, 1:, None], batch.anchor_boxes[:, : m - 1], 0.0)
+        )  # (B, M-1, 12), log sizes
+        boxes = torch.where(mask[:, 1:, None], boxes, 0.0)
+        spatial = torch.cat(
+            [self.unknown_box.expand(b, 1, d), self.box_mlp(boxes)], dim=1
+        )  # (B, M, D)
+        spatial = spatial[:, :, None, :].expand(b, m, q, d).reshape(b, m * q, d)
+        key_mask = mask[:, :, None].expand(b, m, q).reshape(b, m * q)  # (B, M*Q)
+
+        memory = self._point_memory(batch, mask) if c.uses_points else None
+        for block in self.blocks:
+            x = block(x, spatial, key_mask, memory)
+
+        dependent = self.ln_f(x[:, :q]).reshape(b, q * d)  # (B, Q*D)
+        raw = self.head(dependent)  # (B, K*(1+2*12))
+        params = mixture_params_from_head(
+            raw, c.mixture.num_components, BOX_DIM, c.mixture.min_log_scale, c.mixture.max_log_scale
+        )
+        if batch.target is None:
+            return params, None
+        return params, self.loss(params, batch.target)[0]
+
+    def loss(self, params: MixtureParams, target: Tensor) -> tuple[Tensor, LossParts]:
+        """Mean NLL of ``target`` (B, 12) plus the configured entropy term; and its parts."""
+        mix = self.config.mixture
+        return mixture.loss(params, target, mix.entropy_weight, mix.entropy_regulariser)
+
+
+def _check_shapes(batch: LayoutBatch) -> None:
+    b = batch.batch_size
+    expected = {
+        "categories": (b, N_MEMBERS),
+        "scales": (b, N_MEMBERS, 3),
+        "anchor_boxes": (b, N_MEMBERS - 1, BOX_DIM),
+        "member_mask": (b, N_MEMBERS),
+    }
+    if batch.target is not None:
+        expected["target"] = (b, BOX_DIM)
+    for name, shape in expected.items():
+        got = tuple(getattr(batch, name).shape)
+        if got != shape:
+            raise ValueError(f"LayoutBatch.{name} has shape {got}, expected {shape}")
+    for name in ("points", "point_tokens", "point_centers"):
+        value = getattr(batch, name)
+        if value is not None and (value.dim() != 4 or tuple(value.shape[:2]) != (b, N_MEMBERS)):
+            raise ValueError(
+                f"LayoutBatch.{name} has shape {tuple(value.shape)}, expected (B={b}, 3, ., .)"
+            )

@@ -1,0 +1,323 @@
+"""Mixture of logistics over the dependent's box: the layout model's output distribution.
+
+The layout head predicts, per relation tuple, a mixture of K logistics (the paper
+uses K = 4) over a D-dimensional vector, D = 12 for a box. Within a component
+the D dimensions are independent (diagonal), each a continuous logistic with
+its own location and scale:
+
+    p(x) = sum_k w_k prod_d Logistic(x_d; mu_kd, s_kd),   w = softmax(logits)
+
+Everything here is a small standalone function over tensors with any leading
+batch shape ``(...)``; the shapes below write it as ``(B, ...)``.
+
+Target convention (owned here; the dataset, the model and assembly use it)
+---------------------------------------------------------------------------
+The 12-d vector the mixture models is the dependent's box in the support
+anchor's canonical frame (architecture.md), as
+
+    x = (centre (3), log size (3), 6D rotation (6))
+
+- centre: canonical-frame centre (the anchor is the cube [-1, 1]^3);
+- log size: natural log of the canonical-frame full size. Canonical sizes are
+  ratios (dependent size / anchor half-size) that span orders of magnitude (a
+  pen on a desk ~0.05, a bed in a room ~0.5); in log space an error means the
+  same relative error for both, and every sample decodes to a positive size;
+- 6D rotation: the first two columns of the canonical-frame rotation,
+  concatenated (column 0 then column 1), as :func:`pair2scene.scene.geometry.matrix_to_6d`;
+  decoded by Gram-Schmidt (:func:`rotation_from_6d`).
+
+Beware: :meth:`OrientedBox.to_vector` and the 3D-Pairs shard arrays
+(``canonical``, ``*_box``) hold the *size*, not its log. Convert with
+:func:`target_from_box_vector` / :func:`box_vector_from_target`, or build the
+target from parts with :func:`encode_target` / :func:`decode_target`.
+
+Head layout
+-----------
+:func:`mixture_params_from_head` reads a flat head output ``(B, K * (1 + 2D))``
+as ``[logits (K) | loc (K*D) | log-scale (K*D)]``, each block component-major
+(component k's D values are contiguous).
+
+Entropy regulariser
+-------------------
+The training loss is ``NLL -/+ entropy_weight * H(w)`` with ``H`` the entropy of
+the mixture weights. The default sign is a *bonus* (the loss subtracts
+``lambda * H``, so minimising it keeps the weights spread): maximum likelihood
+alone tends to starve components early in training (a component that wins no
+data gets no gradient and its weight keeps falling), and placement is
+genuinely multimodal (a chair on either side of a desk, a lamp on either
+nightstand side), which the sampler can only reproduce if several components
+stay alive. The bonus is bounded (``H <= log K``), so it cannot dominate the
+NLL, and at a small weight it only decides between solutions the NLL is
+indifferent to. The *penalty* sign (``+ lambda * H``) is the other reading of
+"an entropy regulariser": it makes each prediction commit to few components
+(sharper, more decisive samples at the risk of dropping modes); it is kept as
+a config choice so the two can be compared on val NLL and sample diversity.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+from typing import NamedTuple
+
+import torch
+import torch.nn.functional as F
+from torch import Tensor
+
+BOX_DIM = 12
+"""Dimension of the box target: centre 3, log size 3, 6D rotation 6."""
+
+MIN_TARGET_SIZE = 1e-6
+"""Canonical-frame sizes are clamped to this before the log: a zero extent (a flat
+decal stored without thickness) would give -inf. Real thin objects are ~1e-3 of
+a room's half-size, far above it."""
+
+GRAM_SCHMIDT_EPS = 1e-9
+"""Floor on vector norms in Gram-Schmidt, as in the numpy
+:func:`~pair2scene.scene.geometry.sixd_to_matrix`: keeps a degenerate 6D finite."""
+
+
+class EntropyRegulariser(str, Enum):
+    """Sign of the entropy term in :func:`loss` (see the module docstring)."""
+
+    BONUS = "bonus"
+    """Loss = NLL - lambda * H: keeps the mixture weights spread (no dead components)."""
+    PENALTY = "penalty"
+    """Loss = NLL + lambda * H: each prediction commits to few components."""
+
+
+@dataclass(frozen=True)
+class MixtureConfig:
+    """The mixture head's hyper-parameters; the layout model's config embeds one."""
+
+    num_components: int = 4
+    """K, the number of logistic components (the paper uses 4)."""
+    dim: int = BOX_DIM
+    """D, the dimension of the modelled vector (12 for a box, see the module docstring)."""
+    min_log_scale: float = -7.0
+    """Lower bound on each logistic's log scale: e^-7 ~ 1e-3 canonical units, i.e. half
+    a millimetre on a 1 m desk, finer than any annotation. Without a floor the NLL of
+    duplicated training boxes rewards collapsing a component onto them (scale -> 0)."""
+    max_log_scale: float = 5.0
+    """Upper bound: e^5 ~ 150 anchor half-sizes, wider than any room; it never binds in
+    practice and only keeps exp() finite for a diverging head."""
+    entropy_weight: float = 0.01
+    """lambda, the weight of the mixture-weight entropy term. The 12-d NLL is O(10) nats in size
+    per tuple and H <= log 4 ~ 1.4, so 0.01 is a nudge, not a competing objective; a
+    starting point to tune on val NLL."""
+    entropy_regulariser: EntropyRegulariser = EntropyRegulariser.BONUS
+    """Sign of the entropy term: BONUS keeps weights spread, PENALTY sharpens them."""
+
+    @property
+    def head_dim(self) -> int:
+        """Width of the flat head output: K * (1 + 2D)."""
+        return self.num_components * (1 + 2 * self.dim)
+
+
+class MixtureParams(NamedTuple):
+    """Parameters of a batch of diagonal logistic mixtures."""
+
+    logits: Tensor
+    """(B, K) unnormalised log mixture weights."""
+    loc: Tensor
+    """(B, K, D) locations mu."""
+    log_scale: Tensor
+    """(B, K, D) log scales log s."""
+
+
+class LossParts(NamedTuple):
+    """The terms of :func:`loss`, detached, for logging (``._asdict()`` gives a dict)."""
+
+    nll: Tensor
+    """() mean negative log-likelihood in nats."""
+    entropy: Tensor
+    """() mean entropy of the mixture weights in nats."""
+
+
+# -- head -> parameters --------------------------------------------------------------
+def soft_clamp(x: Tensor, low: float, high: float) -> Tensor:
+    """Smoothly bound ``x`` to about ``(low, high)``; close to the identity inside it.
+
+    ``high - softplus(high - (low + softplus(x - low)))``: unlike a hard clamp the
+    gradient never vanishes exactly, so a head pushed past a bound can come back.
+    Inside the bounds it differs from ``x`` by about exp(-distance to the nearer
+    bound) (0.02 at 4 units), so a head initialised near 0 starts at log scale ~0.
+    The result lies in ``(low - log1p(exp(low - high)), high)``: ``low`` up to
+    6e-6 for the default bounds.
+    """
+    return high - F.softplus(high - (low + F.softplus(x - low)))
+
+
+def mixture_params_from_head(
+    raw: Tensor,
+    k: int,
+    d: int = BOX_DIM,
+    min_log_scale: float = -7.0,
+    max_log_scale: float = 5.0,
+) -> MixtureParams:
+    """Split a flat head output into mixture parameters.
+
+    raw : (B, K * (1 + 2D)) laid out ``[logits (K) | loc (K*D) | log-scale (K*D)]``.
+    The log scales pass through :func:`soft_clamp` to ``[min_log_scale, max_log_scale]``;
+    logits and locations are used as they are.
+    """
+    if raw.shape[-1] != k * (1 + 2 * d):
+        raise ValueError(
+            f"head output has {raw.shape[-1]} values, expected K*(1+2D) = "
+            f"{k * (1 + 2 * d)} for K={k}, D={d}"
+        )
+    batch = raw.shape[:-1]
+    logits, loc, log_scale = raw.split([k, k * d, k * d], dim=-1)
+    loc = loc.reshape(*batch, k, d)  # (B, K, D)
+    log_scale = log_scale.reshape(*batch, k, d)  # (B, K, D)
+    return MixtureParams(logits, loc, soft_clamp(log_scale, min_log_scale, max_log_scale))
+
+
+# -- density -------------------------------------------------------------------------
+def logistic_log_pdf(x: Tensor, loc: Tensor, log_scale: Tensor) -> Tensor:
+    """Elementwise log density of Logistic(loc, exp(log_scale)) at ``x`` (broadcast).
+
+    log p = -z - log s - 2 softplus(-z) with z = (x - mu) / s; the density is
+    symmetric in z, so it is evaluated at -|z| where nothing overflows or cancels.
+    """
+    a = ((x - loc) * torch.exp(-log_scale)).abs()
+    return -a - 2.0 * F.softplus(-a) - log_scale
+
+
+def log_prob(params: MixtureParams, x: Tensor) -> Tensor:
+    """Log density of each mixture at its point: x (B, D) -> (B,)."""
+    log_comp = logistic_log_pdf(x.unsqueeze(-2), params.loc, params.log_scale)  # (B, K, D)
+    log_comp = log_comp.sum(dim=-1)  # (B, K)
+    return torch.logsumexp(F.log_softmax(params.logits, dim=-1) + log_comp, dim=-1)
+
+
+def entropy_of_weights(params: MixtureParams) -> Tensor:
+    """Entropy (nats) of the mixture weights: (B,); 0 for one component, log K uniform."""
+    log_w = F.log_softmax(params.logits, dim=-1)
+    return -(log_w.exp() * log_w).sum(dim=-1)
+
+
+def loss(
+    params: MixtureParams,
+    x: Tensor,
+    entropy_weight: float = 0.0,
+    regulariser: EntropyRegulariser = EntropyRegulariser.BONUS,
+) -> tuple[Tensor, LossParts]:
+    """Mean NLL of ``x`` (B, D) plus the entropy term; returns (scalar loss, parts).
+
+    BONUS: ``nll - entropy_weight * H``; PENALTY: ``nll + entropy_weight * H``, with H
+    the batch-mean entropy of the mixture weights (see the module docstring).
+    """
+    nll = -log_prob(params, x).mean()
+    entropy = entropy_of_weights(params).mean()
+    sign = -1.0 if EntropyRegulariser(regulariser) is EntropyRegulariser.BONUS else 1.0
+    total = nll + sign * entropy_weight * entropy
+    return total, LossParts(nll.detach(), entropy.detach())
+
+
+# -- sampling ------------------------------------------------------------------------
+def mode(params: MixtureParams) -> Tensor:
+    """Location of the heaviest component: (B, D).
+
+    Deterministic stand-in for the mixture's mode (exact when the components are
+    well separated); what :func:`sample` returns at temperature 0.
+    """
+    k = params.logits.argmax(dim=-1)  # (B,)
+    d = params.loc.shape[-1]
+    index = k[..., None, None].expand(*k.shape, 1, d)  # (B, 1, D)
+    return params.loc.gather(-2, index).squeeze(-2)
+
+
+def sample(
+    params: MixtureParams,
+    n: int,
+    temperature: float = 1.0,
+    generator: torch.Generator | None = None,
+) -> Tensor:
+    """Draw ``n`` candidates from each mixture: -> (B, n, D).
+
+    The temperature T sharpens both levels: components are drawn with weights
+    softmax(logits / T) (proportional to w^(1/T)) and each logistic's scale is
+    multiplied by T. T = 1 is the learned distribution; T -> 0 concentrates on the
+    heaviest component's location, and T = 0 returns exactly :func:`mode`.
+    Logistics are drawn by the inverse CDF, mu + T s log(u / (1 - u)). The
+    ``generator`` must live on the parameters' device.
+    """
+    if temperature < 0 or not math.isfinite(temperature):
+        raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    logits, loc, log_scale = params
+    batch, (k, d) = logits.shape[:-1], loc.shape[-2:]
+    if temperature == 0:
+        return mode(params).unsqueeze(-2).expand(*batch, n, d).clone()
+
+    # torch.multinomial takes at most 2 dims: flatten the batch to M rows.
+    probs = torch.softmax(logits.reshape(-1, k) / temperature, dim=-1)  # (M, K)
+    comp = torch.multinomial(probs, n, replacement=True, generator=generator)  # (M, n)
+    index = comp.unsqueeze(-1).expand(-1, -1, d)  # (M, n, D)
+    mu = loc.reshape(-1, k, d).gather(1, index)  # (M, n, D)
+    scale = log_scale.reshape(-1, k, d).gather(1, index).exp() * temperature  # (M, n, D)
+    u = torch.rand(mu.shape, generator=generator, dtype=mu.dtype, device=mu.device)
+    u = u.clamp_min(torch.finfo(mu.dtype).tiny)  # rand is in [0, 1): only 0 needs care
+    x = mu + scale * (torch.log(u) - torch.log1p(-u))
+    return x.reshape(*batch, n, d)  # (B, n, D)
+
+
+# -- box vector <-> (centre, size, rotation) -----------------------------------------
+def rotation_from_6d(sixd: Tensor, eps: float = GRAM_SCHMIDT_EPS) -> Tensor:
+    """Gram-Schmidt a 6D vector (first two columns) to a rotation: (..., 6) -> (..., 3, 3).
+
+    Torch twin of :func:`pair2scene.scene.geometry.sixd_to_matrix` (same columns, same
+    eps): differentiable, and any 6D a sampler produces maps to a proper rotation
+    unless its two halves are parallel.
+    """
+    a, b = sixd[..., :3], sixd[..., 3:6]
+    c0 = a / a.norm(dim=-1, keepdim=True).clamp_min(eps)
+    b = b - (c0 * b).sum(dim=-1, keepdim=True) * c0
+    c1 = b / b.norm(dim=-1, keepdim=True).clamp_min(eps)
+    c2 = torch.linalg.cross(c0, c1, dim=-1)
+    return torch.stack([c0, c1, c2], dim=-1)  # (..., 3, 3) columns
+
+
+def rotation_to_6d(rotation: Tensor) -> Tensor:
+    """First two columns of a rotation, concatenated: (..., 3, 3) -> (..., 6)."""
+    return torch.cat([rotation[..., :, 0], rotation[..., :, 1]], dim=-1)
+
+
+def encode_target(center: Tensor, size: Tensor, rotation: Tensor) -> Tensor:
+    """Canonical-frame box -> model target (..., 12): centre, log size, 6D rotation.
+
+    center : (..., 3); size : (..., 3) full extent, clamped to :data:`MIN_TARGET_SIZE`;
+    rotation : (..., 3, 3).
+    """
+    log_size = size.clamp_min(MIN_TARGET_SIZE).log()
+    return torch.cat([center, log_size, rotation_to_6d(rotation)], dim=-1)
+
+
+def decode_target(x: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """Model target or sample (..., 12) -> (centre (..., 3), size (..., 3), rotation (..., 3, 3)).
+
+    Size is exp(log size), so always positive; the rotation is the Gram-Schmidt of
+    the 6D part, so always proper even for raw samples.
+    """
+    return x[..., :3], x[..., 3:6].exp(), rotation_from_6d(x[..., 6:12])
+
+
+def target_from_box_vector(vec: Tensor) -> Tensor:
+    """Stored box vector (centre, size, 6D) (..., 12) -> model target (..., 12).
+
+    The stored layout is :meth:`OrientedBox.to_vector`'s, as in the 3D-Pairs shards.
+    """
+    log_size = vec[..., 3:6].clamp_min(MIN_TARGET_SIZE).log()
+    return torch.cat([vec[..., :3], log_size, vec[..., 6:12]], dim=-1)
+
+
+def box_vector_from_target(x: Tensor) -> Tensor:
+    """Model target or sample (..., 12) -> box vector (centre, size, 6D) (..., 12).
+
+    The 6D part is orthonormalised, so :meth:`OrientedBox.from_vector` reads it as is.
+    """
+    center, size, rotation = decode_target(x)
+    return torch.cat([center, size, rotation_to_6d(rotation)], dim=-1)

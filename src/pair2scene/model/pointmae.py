@@ -1,0 +1,471 @@
+"""Point-MAE: the geometry encoder of the layout model, and its masked-autoencoder pre-training.
+
+Pure PyTorch (no CUDA extensions), after Pang et al., "Masked Autoencoders for
+Point Cloud Self-supervised Learning" (ECCV 2022):
+
+1. grouping: farthest point sampling picks G group centres from the N points,
+   and each centre's k nearest points, relative to the centre, form its group;
+2. a mini-PointNet embeds each group into one token of width D;
+3. a pre-norm transformer encodes the tokens; a positional embedding (an MLP
+   of the group centres) is added before every block, as in Point-MAE;
+4. pre-training masks a random 60 % of the groups, encodes only the visible
+   ones, and a light decoder reconstructs the masked groups' points from mask
+   tokens placed at the masked centres (Chamfer-L2).
+
+The layout model consumes :class:`PointMAEEncoder`: ``encoder(points (B, N, 3))
+-> (tokens (B, G, D), centers (B, G, 3))``.
+
+Input normalisation (owned here; pre-training and the layout model both use it)
+------------------------------------------------------------------------------
+The encoder sees a cloud in the object's local frame, translated so that the
+object's box centre is the origin and divided by the box's half-diagonal
+``|size| / 2`` (:func:`normalise_points`). The box then fits the unit sphere
+exactly (its corners lie on it), so every point lies in the unit ball,
+whatever the object's size. The scale is uniform, so aspect ratios (a flat
+plate versus a tall bottle) stay visible to the encoder; orientation is kept
+too (+y is the front), since the layout depends on it. The absolute size is
+*not* in the tokens: the layout model takes it as a separate input (the box
+size, or :func:`normalise_points`' returned half-diagonal). Using the box, not
+the cloud's own bounds, makes the normalisation known before any point is
+sampled and identical for every cloud of the same asset.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import partial
+
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+from torch import Tensor
+
+MIN_HALF_DIAGONAL = 1e-6
+"""Floor on the normalising half-diagonal (metres): a degenerate zero-size box
+would divide by zero; real assets are at least 1 mm along every axis."""
+
+
+# -- normalisation ---------------------------------------------------------------------
+def normalise_points(
+    points: Tensor, size: Tensor, center: Tensor | None = None
+) -> tuple[Tensor, Tensor]:
+    """Map a cloud into the unit ball by its box (see the module docstring).
+
+    points : (..., N, 3) in the object's local frame, metres.
+    size : (..., 3) full box extent along local x, y, z.
+    center : (..., 3) box centre in the same frame; default the origin (an asset's
+        local frame is centred on its box).
+    Returns the normalised points (..., N, 3) and the half-diagonal (...,) used.
+    """
+    half_diag = (0.5 * torch.linalg.vector_norm(size, dim=-1)).clamp_min(MIN_HALF_DIAGONAL)
+    if center is not None:
+        points = points - center.unsqueeze(-2)
+    return points / half_diag[..., None, None], half_diag
+
+
+# -- grouping --------------------------------------------------------------------------
+@torch.no_grad()
+def farthest_point_sample(
+    points: Tensor, m: int, generator: torch.Generator | None = None
+) -> Tensor:
+    """Indices of ``m`` points chosen by farthest point sampling, per cloud.
+
+    points : (B, N, 3). The first pick is point 0 (deterministic) or, given a
+    ``generator``, a random point per cloud; each next pick is the point farthest
+    from all picked so far (ties: the lowest index). Returns idx (B, m) int64.
+    """
+    b, n, _ = points.shape
+    if not 0 < m <= n:
+        raise ValueError(f"farthest_point_sample: need 0 < m <= N, got m={m}, N={n}")
+    if generator is None:
+        first = torch.zeros(b, dtype=torch.long, device=points.device)
+    else:
+        first = torch.randint(n, (b,), generator=generator, device=generator.device)
+        first = first.to(points.device)
+    idx = torch.empty(b, m, dtype=torch.long, device=points.device)
+    dist = torch.full((b, n), float("inf"), dtype=points.dtype, device=points.device)
+    rows = torch.arange(b, device=points.device)
+    current = first
+    for i in range(m):
+        idx[:, i] = current
+        d = ((points - points[rows, current].unsqueeze(1)) ** 2).sum(-1)  # (B, N)
+        dist = torch.minimum(dist, d)
+        current = dist.argmax(dim=1)
+    return idx
+
+
+def gather_points(points: Tensor, idx: Tensor) -> Tensor:
+    """points (B, N, C), idx (B, *S) -> (B, *S, C)."""
+    b, c = points.shape[0], points.shape[-1]
+    flat = idx.reshape(b, -1)  # (B, S)
+    out = torch.gather(points, 1, flat.unsqueeze(-1).expand(-1, -1, c))  # (B, S, C)
+    return out.reshape(*idx.shape, c)
+
+
+def knn_indices(points: Tensor, centers: Tensor, k: int) -> Tensor:
+    """Indices (B, G, k) of the ``k`` points (B, N, 3) nearest each centre (B, G, 3),
+    nearest first."""
+    d = torch.cdist(centers, points)  # (B, G, N)
+    return d.topk(k, dim=-1, largest=False, sorted=True).indices
+
+
+def knn_group(points: Tensor, centers: Tensor, k: int) -> Tensor:
+    """The ``k`` nearest points of each centre, relative to it: (B, G, k, 3), nearest first.
+
+    points : (B, N, 3); centers : (B, G, 3).
+    """
+    idx = knn_indices(points, centers, k)
+    return gather_points(points, idx) - centers.unsqueeze(2)
+
+
+# -- loss ------------------------------------------------------------------------------
+def chamfer_l2(a: Tensor, b: Tensor) -> Tensor:
+    """Chamfer-L2 between matching point sets, averaged over the sets: (B,).
+
+    a : (B, M, k, 3), b : (B, M, k', 3): M pairs of sets per batch row. Per pair,
+    the mean squared distance from each point of ``a`` to its nearest in ``b``
+    plus the same from ``b`` to ``a`` (Point-MAE's ChamferDistanceL2).
+    """
+    d = ((a.unsqueeze(3) - b.unsqueeze(2)) ** 2).sum(-1)  # (B, M, k, k')
+    per_set = d.min(dim=3).values.mean(-1) + d.min(dim=2).values.mean(-1)  # (B, M)
+    return per_set.mean(-1)
+
+
+# -- config ----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PointMAEConfig:
+    """Hyper-parameters of the encoder and its pre-training decoder."""
+
+    n_points: int = 2048
+    """Points per cloud (``pair2scene.assets.pointcloud.DEFAULT_POINTS``); the encoder
+    accepts any N >= group_size, this is what pre-training samples."""
+    n_groups: int = 64
+    """G, groups (and tokens) per cloud, centres by farthest point sampling."""
+    group_size: int = 32
+    """k, points per group (nearest neighbours of the centre); 64 x 32 covers 2048 points."""
+    width: int = 256
+    """D, the token width of the encoder (and the decoder)."""
+    depth: int = 6
+    """Transformer blocks of the encoder."""
+    heads: int = 4
+    """Attention heads; must divide ``width``."""
+    mlp_ratio: float = 4.0
+    """Hidden width of each block's MLP, as a multiple of ``width``."""
+    pointnet_hidden: int = 128
+    """h of the mini-PointNet: 3 -> h -> 2h per point, then [point, group max] 4h -> 4h ->
+    D; 128 is Point-MAE's (3-128-256, 512-512-D)."""
+    pos_hidden: int = 128
+    """Hidden width of the positional-embedding MLP of the group centres."""
+    mask_ratio: float = 0.6
+    """Fraction of groups masked in pre-training (Point-MAE's 0.6)."""
+    decoder_depth: int = 2
+    """Transformer blocks of the pre-training decoder (Point-MAE uses 4 with depth 12)."""
+    decoder_heads: int = 4
+    """Attention heads of the decoder; must divide ``width``."""
+    dropout: float = 0.0
+    """Dropout in attention and MLPs; Point-MAE pre-trains without it."""
+
+    def __post_init__(self) -> None:
+        if self.width % self.heads or self.width % self.decoder_heads:
+            raise ValueError(f"width {self.width} must be divisible by the head counts")
+        if not 0 < self.group_size <= self.n_points or self.n_groups > self.n_points:
+            raise ValueError("need group_size <= n_points and n_groups <= n_points")
+        if not 0.0 <= self.mask_ratio < 1.0:
+            raise ValueError(f"mask_ratio must be in [0, 1), got {self.mask_ratio}")
+
+    @property
+    def n_masked(self) -> int:
+        """Groups masked per cloud in pre-training: floor(mask_ratio * G), as Point-MAE."""
+        return int(self.mask_ratio * self.n_groups)
+
+    @classmethod
+    def tiny(cls) -> PointMAEConfig:
+        """For tests: 256 points, 16 groups of 16, width 32, depth 2 (seconds on a CPU)."""
+        return cls(
+            n_points=256, n_groups=16, group_size=16, width=32, depth=2, heads=2,
+            pointnet_hidden=16, pos_hidden=16, decoder_depth=1, decoder_heads=2,
+        )  # fmt: skip
+
+    @classmethod
+    def point_mae(cls) -> PointMAEConfig:
+        """The original Point-MAE (ShapeNet) setting: 1024 points, 64 x 32, 384 x 12."""
+        return cls(
+            n_points=1024, n_groups=64, group_size=32, width=384, depth=12, heads=6,
+            pointnet_hidden=128, decoder_depth=4, decoder_heads=6,
+        )  # fmt: skip
+
+
+# -- building blocks -------------------------------------------------------------------
+class MiniPointNet(nn.Module):
+    """Embeds each group of points into one token (Point-MAE's two-stage PointNet).
+
+    Stage 1: shared MLP per point, then max-pool a group feature; stage 2: each
+    point's feature concatenated with its group feature, another shared MLP,
+    max-pool. Layer norm instead of Point-MAE's batch norm, so a token does not
+    depend on what else is in the batch (train and eval behave the same).
+    """
+
+    def __init__(self, out_dim: int, hidden: int) -> None:
+        super().__init__()
+        self.first = nn.Sequential(
+            nn.Linear(3, hidden), nn.LayerNorm(hidden), nn.GELU(), nn.Linear(hidden, 2 * hidden)
+        )
+        self.second = nn.Sequential(
+            nn.Linear(4 * hidden, 4 * hidden),
+            nn.LayerNorm(4 * hidden),
+            nn.GELU(),
+            nn.Linear(4 * hidden, out_dim),
+        )
+
+    def forward(self, groups: Tensor) -> Tensor:
+        """groups (B, G, k, 3) -> tokens (B, G, out_dim)."""
+        f = self.first(groups)  # (B, G, k, 2h)
+        g = f.max(dim=2, keepdim=True).values.expand_as(f)  # (B, G, k, 2h)
+        f = self.second(torch.cat([f, g], dim=-1))  # (B, G, k, D)
+        return f.max(dim=2).values
+
+
+class SelfAttention(nn.Module):
+    def __init__(self, width: int, heads: int, dropout: float) -> None:
+        super().__init__()
+        self.heads = heads
+        self.qkv = nn.Linear(width, 3 * width)
+        self.proj = nn.Linear(width, width)
+        self.dropout = dropout
+
+    def forward(self, x: Tensor) -> Tensor:
+        b, t, d = x.shape
+        q, k, v = self.qkv(x).split(d, dim=2)
+        q = q.view(b, t, self.heads, d // self.heads).transpose(1, 2)  # (B, nh, T, hs)
+        k = k.view(b, t, self.heads, d // self.heads).transpose(1, 2)  # (B, nh, T, hs)
+        v = v.view(b, t, self.heads, d // self.heads).transpose(1, 2)  # (B, nh, T, hs)
+        p = self.dropout if self.training else 0.0
+        y = F.scaled_dot_product_attention(q, k, v, dropout_p=p)  # (B, nh, T, hs)
+        y = y.transpose(1, 2).reshape(b, t, d)  # (B, T, D)
+        return self.proj(y)
+
+
+class Block(nn.Module):
+    """Pre-norm transformer block: x + attn(ln(x)), then x + mlp(ln(x))."""
+
+    def __init__(self, width: int, heads: int, mlp_ratio: float, dropout: float) -> None:
+        super().__init__()
+        hidden = int(width * mlp_ratio)
+        self.ln_1 = nn.LayerNorm(width)
+        self.attn = SelfAttention(width, heads, dropout)
+        self.ln_2 = nn.LayerNorm(width)
+        self.mlp = nn.Sequential(
+            nn.Linear(width, hidden), nn.GELU(), nn.Linear(hidden, width), nn.Dropout(dropout)
+        )
+
+    def forward(self, x: Tensor) -> Tensor:
+        x = x + self.attn(self.ln_1(x))
+        return x + self.mlp(self.ln_2(x))
+
+
+class Transformer(nn.Module):
+    """Blocks with the positional embedding added before each (Point-MAE), then a layer norm."""
+
+    def __init__(self, width: int, depth: int, heads: int, mlp_ratio: float, dropout: float):
+        super().__init__()
+        self.blocks = nn.ModuleList(Block(width, heads, mlp_ratio, dropout) for _ in range(depth))
+        self.ln_f = nn.LayerNorm(width)
+
+    def forward(self, x: Tensor, pos: Tensor) -> Tensor:
+        """x, pos (B, T, D) -> (B, T, D)."""
+        for block in self.blocks:
+            x = block(x + pos)
+        return self.ln_f(x)
+
+
+def positional_mlp(hidden: int, width: int) -> nn.Module:
+    return nn.Sequential(nn.Linear(3, hidden), nn.GELU(), nn.Linear(hidden, width))
+
+
+INIT_STD = 0.02
+"""Std of the truncated-normal initial weights (Point-MAE, after timm's ViT)."""
+
+
+def _init_weights(module: nn.Module, generator: torch.Generator | None = None) -> None:
+    """Truncated-normal linear weights and zero biases, as Point-MAE; use with ``apply``."""
+    if isinstance(module, nn.Linear):
+        nn.init.trunc_normal_(module.weight, std=INIT_STD, generator=generator)
+        if module.bias is not None:
+            nn.init.zeros_(module.bias)
+    elif isinstance(module, nn.LayerNorm):
+        nn.init.ones_(module.weight)
+        nn.init.zeros_(module.bias)
+
+
+# -- encoder ---------------------------------------------------------------------------
+class PointMAEEncoder(nn.Module):
+    """Normalised cloud -> one token per group, and the group centres.
+
+    generator : draws the initial weights (same generator state, same weights); None
+    uses torch's default generator.
+    """
+
+    def __init__(self, config: PointMAEConfig, generator: torch.Generator | None = None) -> None:
+        super().__init__()
+        self.config = config
+        c = config
+        self.embed = MiniPointNet(c.width, c.pointnet_hidden)
+        self.pos_embed = positional_mlp(c.pos_hidden, c.width)
+        self.transformer = Transformer(c.width, c.depth, c.heads, c.mlp_ratio, c.dropout)
+        self.apply(partial(_init_weights, generator=generator))
+
+    @property
+    def width(self) -> int:
+        """D, the width of the output tokens."""
+        return self.config.width
+
+    def group(self, points: Tensor) -> tuple[Tensor, Tensor]:
+        """points (B, N, 3) -> groups (B, G, k, 3) relative to their centres, centers (B, G, 3).
+
+        Deterministic: farthest point sampling starts at point 0 of each cloud.
+        """
+        if points.ndim != 3 or points.shape[-1] != 3:
+            raise ValueError(f"points must be (B, N, 3), got {tuple(points.shape)}")
+        idx = farthest_point_sample(points, self.config.n_groups)
+        centers = gather_points(points, idx)  # (B, G, 3)
+        return knn_group(points, centers, self.config.group_size), centers
+
+    def encode(self, groups: Tensor, centers: Tensor, mask: Tensor | None = None) -> Tensor:
+        """Tokens of the groups (B, G, k, 3) at ``centers`` (B, G, 3).
+
+        mask : optional (B, G) bool, True where a group is hidden; every row must hide
+        the same number of groups. Returns (B, G, D), or (B, V, D) for the V visible
+        groups of each row in group order when masked.
+        """
+        x = self.embed(groups)  # (B, G, D)
+        pos = self.pos_embed(centers)  # (B, G, D)
+        if mask is not None:
+            b, _, d = x.shape
+            visible = ~mask
+            n_visible = visible.sum(dim=1)
+            if bool((n_visible != n_visible[0]).any()):
+                raise ValueError("mask must hide the same number of groups in every row")
+            x = x[visible].reshape(b, -1, d)  # (B, V, D)
+            pos = pos[visible].reshape(b, -1, d)  # (B, V, D)
+        return self.transformer(x, pos)
+
+    def forward(self, points: Tensor, mask: Tensor | None = None) -> tuple[Tensor, Tensor]:
+        """points (B, N, 3), normalised (:func:`normalise_points`) ->
+        (tokens (B, G, D), centers (B, G, 3)).
+
+        With ``mask`` (B, G) bool (True: hidden), only the visible groups are encoded
+        and both outputs hold those: (B, V, D) and (B, V, 3).
+        """
+        groups, centers = self.group(points)
+        tokens = self.encode(groups, centers, mask)
+        if mask is not None:
+            centers = centers[~mask].reshape(centers.shape[0], -1, 3)  # (B, V, 3)
+        return tokens, centers
+
+
+def random_mask(
+    batch: int, n_groups: int, n_masked: int, generator: torch.Generator | None,
+    device: torch.device | str = "cpu",
+) -> Tensor:  # fmt: skip
+    """(B, G) bool with exactly ``n_masked`` True per row, uniformly at random.
+
+    The draw happens on the generator's device, then moves to ``device``, so a CPU
+    generator gives the same mask whatever device the model runs on.
+    """
+    gen_device = generator.device if generator is not None else torch.device("cpu")
+    noise = torch.rand(batch, n_groups, generator=generator, device=gen_device)
+    rank = noise.argsort(dim=1).argsort(dim=1)  # (B, G) rank of each group's noise
+    return (rank < n_masked).to(device)
+
+
+@dataclass(frozen=True)
+class MAEOutput:
+    """What :meth:`PointMAE.forward` returns besides the loss (detached)."""
+
+    chamfer: Tensor
+    """(B,) Chamfer-L2 of each cloud's masked groups (the loss is its mean)."""
+    mask: Tensor
+    """(B, G) bool, True for the masked groups."""
+    predicted: Tensor
+    """(B, M, k, 3) reconstructed masked groups, relative to their centres."""
+    target: Tensor
+    """(B, M, k, 3) true masked groups, relative to their centres."""
+
+
+# -- masked autoencoder ----------------------------------------------------------------
+class PointMAE(nn.Module):
+    """The encoder plus a light decoder that reconstructs masked groups (pre-training only).
+
+    generator : draws the initial weights, as for :class:`PointMAEEncoder`.
+    """
+
+    def __init__(self, config: PointMAEConfig, generator: torch.Generator | None = None) -> None:
+        super().__init__()
+        if config.n_masked < 1 or config.n_masked >= config.n_groups:
+            raise ValueError(
+                f"mask_ratio {config.mask_ratio} of {config.n_groups} groups must mask "
+                "at least one and leave at least one visible"
+            )
+        self.config = config
+        c = config
+        self.encoder = PointMAEEncoder(c, generator)
+        self.mask_token = nn.Parameter(torch.zeros(c.width))
+        self.decoder_pos_embed = positional_mlp(c.pos_hidden, c.width)
+        self.decoder = Transformer(
+            c.width, c.decoder_depth, c.decoder_heads, c.mlp_ratio, c.dropout
+        )
+        self.head = nn.Linear(c.width, 3 * c.group_size)
+        init = partial(_init_weights, generator=generator)
+        for part in (self.decoder_pos_embed, self.decoder, self.head):
+            part.apply(init)
+        nn.init.trunc_normal_(self.mask_token, std=INIT_STD, generator=generator)
+
+    def forward(
+        self, points: Tensor, generator: torch.Generator | None = None
+    ) -> tuple[Tensor, MAEOutput]:
+        """points (B, N, 3), normalised -> (loss (), details).
+
+        Masks ``n_masked`` random groups per cloud (drawn with ``generator``), encodes
+        the visible ones, decodes mask tokens at the masked centres and scores the
+        reconstruction with Chamfer-L2 against the true groups.
+        """
+        c = self.config
+        groups, centers = self.encoder.group(points)  # (B, G, k, 3), (B, G, 3)
+        b, g = centers.shape[:2]
+        mask = random_mask(b, g, c.n_masked, generator, points.device)  # (B, G)
+        visible = self.encoder.encode(groups, centers, mask)  # (B, V, D)
+
+        m = c.n_masked
+        masked_centers = centers[mask].reshape(b, m, 3)  # (B, M, 3)
+        visible_centers = centers[~mask].reshape(b, g - m, 3)  # (B, V, 3)
+        order = torch.cat([visible_centers, masked_centers], dim=1)  # (B, G, 3) visible first
+        pos = self.decoder_pos_embed(order)  # (B, G, D)
+        x = torch.cat([visible, self.mask_token.expand(b, m, -1)], dim=1)  # (B, G, D)
+        x = self.decoder(x, pos)[:, -m:]  # (B, M, D)
+        predicted = self.head(x).reshape(b, m, c.group_size, 3)  # (B, M, k, 3)
+
+        target = groups[mask].reshape(b, m, c.group_size, 3)  # (B, M, k, 3)
+        per_cloud = chamfer_l2(predicted, target)
+        details = MAEOutput(per_cloud.detach(), mask, predicted.detach(), target)
+        return per_cloud.mean(), details
+
+
+def count_parameters(module: nn.Module) -> int:
+    return sum(p.numel() for p in module.parameters())
+
+
+__all__ = [
+    "MAEOutput",
+    "MiniPointNet",
+    "PointMAE",
+    "PointMAEConfig",
+    "PointMAEEncoder",
+    "chamfer_l2",
+    "count_parameters",
+    "farthest_point_sample",
+    "gather_points",
+    "knn_group",
+    "knn_indices",
+    "normalise_points",
+    "random_mask",
+]
