@@ -1,7 +1,9 @@
-"""Shared by the benchmark scripts: write one section of docs/benchmarks.md."""
+"""Shared by the benchmark scripts: the machine line and one section of docs/benchmarks.md."""
 
 from __future__ import annotations
 
+import os
+import platform
 import re
 from pathlib import Path
 
@@ -18,3 +20,16 @@ def replace_section(doc: Path, heading: str, text: str) -> None:
     else:
         new = old.rstrip("\n") + "\n\n" + text
     atomic_write_text(doc, new.rstrip("\n") + "\n")
+
+
+def machine() -> str:
+    """One line naming the machine: CPUs available to this process, CPU model, Python."""
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    model = platform.processor() or "unknown CPU"
+    try:
+        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
+        found = re.search(r"^model name\s*:\s*(.+)$", text, re.MULTILINE)
+        model = found.group(1).strip() if found else model
+    except OSError:
+        pass
+    return f"{cpus} CPUs (nproc), {model}, Python {platform.python_version()}"

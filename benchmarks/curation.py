@@ -24,8 +24,6 @@ from __future__ import annotations
 import argparse
 import datetime as dt
 import os
-import platform
-import re
 import shlex
 import statistics
 import sys
@@ -34,6 +32,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _docs import machine
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "benchmarks.md"
@@ -42,18 +41,6 @@ PROCTHOR_TRAIN = ROOT.parent / "shared" / "data" / "procthor-1k" / "train.jsonl.
 LOAD_TUPLES = 50_000
 OBJECTS_PER_ROOM = 25
 """Synthetic rooms hold about as many objects as ProcTHOR's (~23)."""
-
-
-def machine() -> str:
-    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    model = platform.processor() or "unknown CPU"
-    try:
-        text = Path("/proc/cpuinfo").read_text(encoding="utf-8", errors="replace")
-        found = re.search(r"^model name\s*:\s*(.+)$", text, re.MULTILINE)
-        model = found.group(1).strip() if found else model
-    except OSError:
-        pass
-    return f"{cpus} CPUs (nproc), {model}, Python {platform.python_version()}"
 
 
 def load_average() -> str:
