@@ -1848,6 +1848,20 @@ def hand_towel(size, rng, style, support_heights):
     return _folded_stack(sx, sy, sz, 1, bands=style == 1, rng=rng)
 
 
+def _paper_roll(
+    rx: float, ry: float, core: float, z0: float, z_paper: float, z_core: float
+) -> list[Part]:
+    """A paper roll (outer radii rx, ry) wound on a hollow card core (``core`` as a
+    share of the radii): paper from z0 to z_paper, the core standing to z_core."""
+    paper = _ring_segments(core * rx, rx, z0, z_paper, 12, core * ry, ry)
+    card = _ring_segments(
+        0.85 * core * rx, core * rx + 1e-4, z0, z_core, 8, 0.85 * core * ry, core * ry + 1e-4
+    )
+    return [Part(f"roll_{i}", m) for i, m in enumerate(paper)] + [
+        Part(f"core_{i}", m) for i, m in enumerate(card)
+    ]
+
+
 @register("toilet_paper", variants=2)
 def toilet_paper(size, rng, style, support_heights):
     """Toilet paper roll with its cardboard core: standing on end, the loose end hanging at
@@ -1858,26 +1872,7 @@ def toilet_paper(size, rng, style, support_heights):
     parts: list[Part] = []
     if style == 0:
         rx, ry = 0.97 * hx, 0.97 * hy  # the loose sheet takes the rest
-        parts += [
-            Part(f"roll_{i}", m)
-            for i, m in enumerate(
-                _ring_segments(core * rx, rx, -hz, hz - 0.02 * sz, 12, core * ry, ry)
-            )
-        ]
-        parts += [
-            Part(f"core_{i}", m)
-            for i, m in enumerate(
-                _ring_segments(
-                    0.85 * core * rx,
-                    core * rx + 1e-4,
-                    -hz,
-                    hz,
-                    8,
-                    0.85 * core * ry,
-                    core * ry + 1e-4,
-                )
-            )
-        ]
+        parts += _paper_roll(rx, ry, core, -hz, hz - 0.02 * sz, hz)
         parts.append(
             Part("sheet", box_between((-0.3 * rx, ry - 0.01 * sy, -hz), (0.3 * rx, hy, 0.4 * hz)))
         )
@@ -1909,26 +1904,7 @@ def paper_towel_roll(size, rng, style, support_heights):
     parts: list[Part] = []
     if style == 1:
         core = 0.3
-        parts += [
-            Part(f"roll_{i}", m)
-            for i, m in enumerate(
-                _ring_segments(core * rx, rx, -hz, hz - 0.01 * sz, 12, core * ry, ry)
-            )
-        ]
-        parts += [
-            Part(f"core_{i}", m)
-            for i, m in enumerate(
-                _ring_segments(
-                    0.85 * core * rx,
-                    core * rx + 1e-4,
-                    -hz,
-                    hz,
-                    8,
-                    0.85 * core * ry,
-                    core * ry + 1e-4,
-                )
-            )
-        ]
+        parts += _paper_roll(rx, ry, core, -hz, hz - 0.01 * sz, hz)
     else:
         base_h = _clip(0.04 * sz, 0.005, 0.02)
         knob_h = _clip(0.08 * sz, 0.01, 0.04)
