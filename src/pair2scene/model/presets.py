@@ -5,27 +5,24 @@ predictor's sizes, the point encoder's sizes (and so the points per cloud), and
 the optimiser schedule. The variant (full or an ablation) is chosen separately:
 ``preset.for_variant("class-only")`` keeps the sizes.
 
-How ``cpu`` was sized (2 CPU cores, ~14k training tuples, 45 minutes, <= 8 GB)
+How ``cpu`` was sized (2 CPU cores, ~13k training tuples, <= 45 minutes, <= 8 GB)
 -----------------------------------------------------------------------------
-With the encoder frozen (``full``, ``global``; ``class-only`` has none), the
-point tokens of each distinct cloud are computed once and cached (~8 ms per
-2048-point cloud with the ``cpu`` encoder), so a step costs the predictor alone;
-its bulk is the cross-attention over the present members' point tokens
-(~2.1 members x G = 32 tokens per tuple, width^2 per block). Measured on the
-development machine (2 cores, torch 2.13 CPU, batch 64 with 10 % functional
-anchors as in the corpus, forward + backward + AdamW step, cached tokens; a
-shared machine, so minimum and median of 35 steps): 81 / 87 ms. One epoch of
-14k tuples is 219 steps, ~19 s; the 45-minute budget would hold ~140 epochs of
-pure steps. ``cpu`` takes 60 (13,140 steps, ~19 minutes of steps), leaving half
-the budget for batch assembly, validation, token caching and a busier machine.
-Peak memory of a training step is ~0.45 GB (1.2 M predictor parameters).
+With the encoder frozen (``full``, ``global``; ``class-only`` has none), the point
+tokens of each distinct cloud are computed once and cached, so a step costs the
+predictor alone; its bulk is the cross-attention over the present members' point
+tokens (~2.1 members x G = 32 tokens per tuple). On the development machine (2 cores,
+torch 2.13 CPU) a step of 64 tuples takes ~80 ms and an epoch of the AI2-THOR +
+ProcTHOR-1k train split (12,853 tuples, 201 steps, plus the validation NLL) ~18 s, so
+the 40 epochs of ``cpu`` take ~12 minutes, plus ~1 minute to build and encode the 4.8k
+distinct clouds (``benchmarks/model.py``, docs/benchmarks.md; the validation NLL is
+still falling slowly at 40 epochs, docs/model.md). Peak memory of the whole run is
+~1 GB.
 
-``no-pretrain`` trains the encoder, so its tokens cannot be cached: every step
-encodes the ~134 present clouds of a batch, ~3 s forward + backward on 2 cores
-(peak ~2.1 GB), ~35x the cached step. Within the same 45 minutes that is 3
-epochs (:data:`NO_PRETRAIN_EPOCH_DIVISOR`): on CPU the ablation compares at equal
-time, not equal epochs; run it on a GPU to compare at equal epochs. ``full`` with
-``finetune_encoder`` costs the same.
+``no-pretrain`` trains the encoder, so its tokens cannot be cached: every step encodes
+the ~134 present clouds of a batch, ~35x the cached step on 2 cores. Within the same
+budget that is 2 epochs (:data:`NO_PRETRAIN_EPOCH_DIVISOR`): on CPU the ablation
+compares at equal time, not equal epochs; run it on a GPU to compare at equal epochs.
+``full`` with ``finetune_encoder`` costs the same.
 """
 
 from __future__ import annotations
@@ -42,7 +39,7 @@ DEFAULT_PRESET = "cpu"
 NO_PRETRAIN_EPOCH_DIVISOR = 20
 """``no-pretrain`` encodes every cloud at every step (no cached tokens); on CPU that is
 ~35x the cached step, so :meth:`TrainPreset.for_variant` divides the ``cpu`` preset's
-epochs by this much (60 -> 3, ~36 minutes) to stay within the same 45 minutes."""
+epochs by this much (40 -> 2) to stay within the same 45 minutes."""
 
 
 @dataclass(frozen=True)
@@ -112,14 +109,16 @@ PRESETS: dict[str, TrainPreset] = {
     ),
     "cpu": TrainPreset(
         name="cpu",
+        # K = 8 (the paper: 4): measured on the full corpus, 4 diagonal components cannot
+        # cover both the position modes and the four axis-aligned yaws of many tuples.
         layout=LayoutConfig(width=128, depth=4, heads=4, queries=4, point_dim=128,
-                            mixture=MixtureConfig(num_components=4)),
+                            mixture=MixtureConfig(num_components=8)),
         # 32 groups of 64 points cover a 2048-point cloud (the cache's default) once:
         # the predictor's cost grows with G, the encoder's only once per cloud.
         encoder=PointMAEConfig(n_points=DEFAULT_POINTS, n_groups=32, group_size=64,
                                width=128, depth=4, heads=4, pointnet_hidden=64,
                                pos_hidden=64, decoder_depth=2, decoder_heads=4),
-        batch_size=64, epochs=60, lr=5e-4, weight_decay=0.05, warmup_steps=300,
+        batch_size=64, epochs=40, lr=5e-4, weight_decay=0.05, warmup_steps=300,
     ),
     "paper": TrainPreset(
         name="paper",

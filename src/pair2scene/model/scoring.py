@@ -59,6 +59,7 @@ BOX_DIM = 12
 """The scored vector: canonical centre 3, size 3, 6D rotation 6, as stored."""
 SIZE_SLICE = slice(3, 6)
 """Where the three sizes sit in the scored vector."""
+SIZE_DIMS = (3, 4, 5)
 SIZE_FLOOR = 1e-6
 """Sizes are clamped to this before a log (as pair2scene.model.mixture.MIN_TARGET_SIZE):
 a zero extent would give -inf. The smallest canonical size on the corpora is ~2e-3."""
@@ -95,6 +96,16 @@ class Scorer(Protocol):
     def log_prob(self, data: PairsDataset) -> np.ndarray:
         """(N,) float64 log density, in nats, of ``data.canonical`` as stored (see the
         module docstring), one value per tuple of ``data``."""
+        ...
+
+
+@runtime_checkable
+class SizeScorer(Scorer, Protocol):
+    """A scorer that also gives the marginal density of the stored size (3 dims), so that
+    :func:`score` can report the NLL of the placement *given* the size."""
+
+    def log_prob_size(self, data: PairsDataset) -> np.ndarray:
+        """(N,) float64 log marginal density of ``data.canonical[:, 3:6]`` as stored."""
         ...
 
 
@@ -151,6 +162,12 @@ class ScoreResult:
     """Tuples whose log density is not finite (a model bug or a zero density)."""
     per_kind: dict[str, GroupScore] = field(default_factory=dict)
     """By relation kind (floor, support, functional)."""
+    nll_given_size: float | None = None
+    """Mean -log p(x | size) = -(log p(x) - log p(size)): the placement (centre and
+    rotation) given the dependent's size, as generation meets it (the asset, and so its
+    size, is chosen first). Fair between a model that takes the dependent's size as an
+    input (the learned one) and one that does not (the Gaussian): both are asked the same
+    question. None when the model cannot give the size's marginal."""
     per_source: dict[str, GroupScore] = field(default_factory=dict)
     """By source label as the dataset stores it."""
 
@@ -168,6 +185,7 @@ class ScoreResult:
             "n": self.n,
             "split": self.split,
             "median_nll": num(self.median_nll),
+            "nll_given_size": None if self.nll_given_size is None else num(self.nll_given_size),
             "nonfinite": self.nonfinite,
             "per_kind": groups(self.per_kind),
             "per_source": groups(self.per_source),
@@ -213,6 +231,10 @@ def score(model: Scorer, data: PairsDataset | str | Path, split: str | None = "v
         }
 
     kinds = np.array([subset.kinds[k] for k in subset.kind.tolist()], dtype=object)
+    given_size = None
+    if isinstance(model, SizeScorer):
+        lps = np.asarray(model.log_prob_size(subset), dtype=np.float64)
+        given_size = _mean_nll(-(lp - lps))
     return ScoreResult(
         nll=_mean_nll(nll),
         n=len(subset),
@@ -221,6 +243,7 @@ def score(model: Scorer, data: PairsDataset | str | Path, split: str | None = "v
         nonfinite=int((~finite).sum()),
         per_kind=by(kinds),
         per_source=by(subset.source),
+        nll_given_size=given_size,
     )
 
 
@@ -268,12 +291,9 @@ def _json_format(path: Path) -> str | None:
 
 
 def _load_learned(path: Path | None) -> Scorer:
-    """Adapter point for the learned layout model: load its checkpoint (``path``, or the
-    default one when None) and return an object whose ``log_prob`` follows the contract
-    of this module (density of the stored vector: add the log-size Jacobian with
-    :func:`log_prob_from_log_size`)."""
-    where = "the default checkpoint" if path is None else str(path)
-    raise UserError(
-        f"{where}: no trained model yet (the learned layout model cannot be loaded for "
-        "scoring yet; use --model gaussian)"
-    )
+    """The learned layout model in checkpoint folder ``path`` (None: the bundled default);
+    its ``log_prob`` adds the model frame's and the log size's Jacobians, so it follows
+    the contract of this module."""
+    from pair2scene.model.api import LayoutModel
+
+    return LayoutModel.from_pretrained(path)

@@ -1,0 +1,61 @@
+"""``pair2scene hierarchy``: a scene hierarchy from a room type or a description.
+
+Thin: parses its arguments and calls :func:`pair2scene.hierarchy.build.build_hierarchy`.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def hierarchy_command(
+    room: Annotated[
+        str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
+    ] = None,
+    text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
+    mode: Annotated[
+        str, typer.Option(help="fit (counts like the training rooms) or beyond (denser).")
+    ] = "fit",
+    max_objects: Annotated[
+        int | None, typer.Option(help="beyond: objects to reach (default 80); fit: a cap.")
+    ] = None,
+    seed: Annotated[int, typer.Option(help="Same seed, same hierarchy.")] = 0,
+    stats: Annotated[
+        Path | None, typer.Option(help="stats.json of a curation run (default: bundled).")
+    ] = None,
+    llm: Annotated[
+        str, typer.Option(help="auto (LLM when configured), never (offline parser), always.")
+    ] = "auto",
+    as_json: Annotated[bool, typer.Option("--json", help="Print the hierarchy as JSON.")] = False,
+) -> None:
+    """Build a scene hierarchy: which objects, what rests on what (support tree), what is
+    placed relative to what (functional trees), and the placement order (sequence).
+
+    --json prints {"room_type", "objects", "category_counts", "nodes", "support_tree":
+    {"root", "edges": [{"parent", "child"}]}, "functional_trees": [{"support_anchor",
+    "edges": [{"anchor", "dependent"}]}], "sequence": [{"dependent", "support",
+    "functional_anchor"}], "notes"}; every reference is {"id", "category"}.
+    """
+    from pair2scene.hierarchy.build import build_hierarchy
+
+    h = build_hierarchy(room, text, mode, max_objects, seed, stats, llm)
+    if as_json:
+        typer.echo(json.dumps(h.to_dict(mode=mode, seed=seed), indent=1))
+        return
+    typer.echo(f"{h.room_type}: {len(h)} objects ({mode}, seed {seed})")
+
+    def show(parent: str, depth: int) -> None:
+        for child in h.children(parent):
+            func = h.functional.get(child.id)
+            at = f"  [at {func}]" if func else ""
+            typer.echo(f"{'  ' * depth}- {child.id}{at}")
+            show(child.id, depth + 1)
+
+    typer.echo("floor")
+    show("floor", 1)
+    for note in h.notes:
+        typer.echo(f"note: {note}")

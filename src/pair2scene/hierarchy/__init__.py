@@ -1,0 +1,1 @@
+"""Scene hierarchies: support and functional trees, from statistics or from text."""

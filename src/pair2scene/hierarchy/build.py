@@ -1,0 +1,55 @@
+"""One entry point for hierarchies: from a room type (statistics) or from text (LLM or
+offline parser). The CLI's ``pair2scene hierarchy`` calls :func:`build_hierarchy`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pair2scene.curation.stats import HierarchyStats
+from pair2scene.errors import UserError
+from pair2scene.hierarchy.synthesis import SynthesisConfig, load_stats, synthesize
+from pair2scene.hierarchy.tree import Hierarchy
+
+LLM_CHOICES = ("auto", "never", "always")
+"""``auto``: the LLM when an endpoint is configured, else the offline parser."""
+
+
+def room_key(room: str) -> str:
+    """'Living room' / 'living-room' / 'living_room' -> 'living_room'."""
+    return "_".join(room.strip().lower().replace("-", " ").split())
+
+
+def build_hierarchy(
+    room: str | None = None,
+    text: str | None = None,
+    mode: str = "fit",
+    max_objects: int | None = None,
+    seed: int = 0,
+    stats: HierarchyStats | str | Path | None = None,
+    llm: str = "auto",
+) -> Hierarchy:
+    """A validated hierarchy for ``room`` (a room type of the statistics) or ``text``."""
+    if (room is None) == (text is None):
+        raise UserError("give exactly one of a room type or a text")
+    if llm not in LLM_CHOICES:
+        raise UserError(f"llm must be one of {', '.join(LLM_CHOICES)}")
+    config = SynthesisConfig(mode=mode, max_objects=max_objects, seed=seed)
+    if not isinstance(stats, HierarchyStats):
+        stats = load_stats(stats)
+    if room is not None:
+        return synthesize(stats, room_key(room), config)
+    assert text is not None
+    if not text.strip():
+        raise UserError("the text is empty")
+    if llm != "never":
+        from pair2scene.hierarchy.llm import hierarchy_from_llm, llm_client_from_env
+
+        client = llm_client_from_env()
+        if client is not None:
+            return hierarchy_from_llm(client, text, max_objects)
+        if llm == "always":
+            raise UserError("--llm needs an endpoint: set PAIR2SCENE_LLM_BASE_URL (see README)")
+    from pair2scene.hierarchy.from_text import hierarchy_from_spec
+    from pair2scene.hierarchy.text import parse_text
+
+    return hierarchy_from_spec(parse_text(text), stats, config)

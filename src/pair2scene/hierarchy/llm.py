@@ -1,0 +1,185 @@
+"""Text-guided hierarchies through an LLM (any OpenAI-compatible chat-completions endpoint).
+
+The prompt follows the method's published structure: the model lists the objects, the
+support tree as edges from ``"Floor"`` and the functional trees, each with its
+``support_anchor`` and ``(anchor, dependent)`` edges. The reply is checked twice: against
+a JSON schema (by :class:`pair2scene.llm.LLMClient`) and as a hierarchy
+(:meth:`Hierarchy.validate`: known categories, grounded, acyclic, functional anchors on
+the same support). A reply that fails either gets one repair round, the problem quoted
+back to the model; a second failure is a one-line :class:`HierarchyError`.
+"""
+
+from __future__ import annotations
+
+import json
+
+from pair2scene.categories import RoomType
+from pair2scene.errors import UserError
+from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node, object_categories
+from pair2scene.scene.model import FLOOR
+
+LLM_FLOOR = "Floor"
+"""The floor's name in the prompt's trees (the method's)."""
+MAX_OBJECTS_IN_REPLY = 300
+SCHEMA_NAME = "scene_hierarchy"
+ROOM_TYPES = tuple(r.value for r in RoomType)
+
+
+def reply_schema() -> dict:
+    """JSON schema of a reply (the subset :func:`pair2scene.llm.validate_json` checks)."""
+    ident = {"type": "string", "maxLength": 80}
+    edge = {
+        "type": "object",
+        "properties": {"parent": ident, "child": ident},
+        "required": ["parent", "child"],
+        "additionalProperties": False,
+    }
+    func_edge = {
+        "type": "object",
+        "properties": {"anchor": ident, "dependent": ident},
+        "required": ["anchor", "dependent"],
+        "additionalProperties": False,
+    }
+    obj = {
+        "type": "object",
+        "properties": {"id": ident, "category": {"type": "string", "maxLength": 80}},
+        "required": ["id", "category"],
+        "additionalProperties": False,
+    }
+    tree = {
+        "type": "object",
+        "properties": {
+            "support_anchor": ident,
+            "edges": {"type": "array", "items": func_edge, "maxItems": MAX_OBJECTS_IN_REPLY},
+        },
+        "required": ["support_anchor", "edges"],
+        "additionalProperties": False,
+    }
+    return {
+        "type": "object",
+        "properties": {
+            "room_type": {"type": "string", "enum": list(ROOM_TYPES)},
+            "objects": {"type": "array", "items": obj, "maxItems": MAX_OBJECTS_IN_REPLY},
+            "support_tree": {"type": "array", "items": edge, "maxItems": MAX_OBJECTS_IN_REPLY},
+            "functional_trees": {"type": "array", "items": tree, "maxItems": MAX_OBJECTS_IN_REPLY},
+        },
+        "required": ["room_type", "objects", "support_tree", "functional_trees"],
+        "additionalProperties": False,
+    }
+
+
+def messages(text: str, max_objects: int | None = None) -> list[dict]:
+    """The chat messages asking for the hierarchy of ``text``."""
+    cats = ", ".join(sorted(object_categories()))
+    limit = f" Use at most {max_objects} objects." if max_objects else ""
+    example = {
+        "room_type": "office",
+        "objects": [
+            {"id": "desk_0", "category": "desk"},
+            {"id": "chair_0", "category": "chair"},
+            {"id": "laptop_0", "category": "laptop"},
+        ],
+        "support_tree": [
+            {"parent": LLM_FLOOR, "child": "desk_0"},
+            {"parent": LLM_FLOOR, "child": "chair_0"},
+            {"parent": "desk_0", "child": "laptop_0"},
+        ],
+        "functional_trees": [
+            {"support_anchor": LLM_FLOOR, "edges": [{"anchor": "desk_0", "dependent": "chair_0"}]}
+        ],
+    }
+    system = (
+        "You plan indoor scenes for a 3D scene generator. A scene is a support tree (what "
+        "rests on what, rooted at the Floor) and, for every support with dependents, a "
+        "functional tree (which object each dependent is placed relative to, among objects "
+        "on the same support). Reply with one JSON object and nothing else."
+    )
+    user = (
+        f"Describe this room as a scene hierarchy: {json.dumps(text)}\n\n"
+        f"Rules:\n"
+        f"- objects: every object once, id '<category>_<n>', category from: {cats}.\n"
+        f"- support_tree: one edge per object, parent '{LLM_FLOOR}' or an object id; "
+        "furniture rests on the Floor, small objects on furniture.\n"
+        "- functional_trees: one per support anchor that has dependents; an edge "
+        "(anchor, dependent) when the dependent is placed relative to the anchor (a chair "
+        "at a desk, a nightstand beside a bed); both must rest on that support_anchor.\n"
+        "- Include everything the description names, with its counts, and complete the "
+        f"room with what such a room usually holds.{limit}\n"
+        f"- room_type: one of {', '.join(ROOM_TYPES)}.\n\n"
+        f"Example reply: {json.dumps(example)}"
+    )
+    return [{"role": "system", "content": system}, {"role": "user", "content": user}]
+
+
+def hierarchy_from_reply(reply: dict) -> Hierarchy:
+    """A validated hierarchy from a schema-valid reply; HierarchyError naming the problem."""
+    objects = reply["objects"]
+    h = Hierarchy(reply["room_type"], [Node(o["id"], o["category"]) for o in objects])
+    names = {o["id"] for o in objects}
+
+    def node_ref(name: str) -> str:
+        if name.strip().lower() == FLOOR:
+            return FLOOR
+        if name not in names:
+            raise HierarchyError(f"{name!r} is used in a tree but is not among the objects")
+        return name
+
+    for e in reply["support_tree"]:
+        child = node_ref(e["child"])
+        if child == FLOOR:
+            raise HierarchyError("the Floor cannot rest on anything")
+        if child in h.support:
+            raise HierarchyError(f"{child!r} has two supports in support_tree")
+        h.support[child] = node_ref(e["parent"])
+    for t in reply["functional_trees"]:
+        root = node_ref(t["support_anchor"])
+        for e in t["edges"]:
+            anchor, dep = node_ref(e["anchor"]), node_ref(e["dependent"])
+            if dep == FLOOR:
+                raise HierarchyError("the Floor cannot be a functional dependent")
+            if h.support.get(dep) != root:
+                raise HierarchyError(
+                    f"functional tree of {t['support_anchor']!r}: {dep!r} does not rest on it"
+                )
+            if anchor != root:
+                h.functional[dep] = anchor
+    return h.validate()
+
+
+def hierarchy_from_llm(client, text: str, max_objects: int | None = None) -> Hierarchy:
+    """Ask ``client`` (:class:`pair2scene.llm.LLMClient`) for the hierarchy of ``text``;
+    one repair round, then a HierarchyError."""
+    from pair2scene.llm import LLMReplyError
+
+    msgs = messages(text, max_objects)
+    problem = ""
+    for attempt in range(2):
+        reply = None
+        try:
+            reply = client.complete_json(msgs, reply_schema(), SCHEMA_NAME)
+            h = hierarchy_from_reply(reply)
+            if max_objects is not None and len(h) > max_objects:
+                raise HierarchyError(f"{len(h)} objects, more than the {max_objects} asked for")
+            h.notes.append("hierarchy from the LLM" + (" (after one repair)" if attempt else ""))
+            return h
+        except (LLMReplyError, HierarchyError) as e:
+            problem = str(e)
+            previous = json.dumps(reply)[:20000] if reply is not None else "(not valid JSON)"
+            msgs = [
+                *msgs,
+                {"role": "assistant", "content": previous},
+                {"role": "user", "content": f"That reply is invalid: {problem}. "
+                 "Reply again with the corrected JSON object only."},
+            ]  # fmt: skip
+    raise HierarchyError(f"the LLM's hierarchy is invalid after one repair round: {problem}")
+
+
+def llm_client_from_env():
+    """An LLMClient when an endpoint is configured (environment), else None."""
+    from pair2scene.llm import LLMClient, LLMConfig
+
+    try:
+        config = LLMConfig.from_env()
+    except ValueError as e:
+        raise UserError(f"LLM configuration: {e}") from None
+    return None if config is None else LLMClient(config)

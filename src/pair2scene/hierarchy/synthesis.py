@@ -1,0 +1,290 @@
+"""Statistical hierarchy synthesis: the method's Algorithm 1 over the curated statistics.
+
+``synthesize(stats, "bedroom", SynthesisConfig(mode="fit", seed=0))``:
+
+1. **Base template**: a multiset of floor furniture drawn from the room type's curated
+   templates, weighted by how many training rooms had it. Functional anchors among the
+   floor furniture (chairs at the desk) are drawn from the floor's functional statistics.
+2. **Expansion queue**: breadth-first over the nodes. For a popped leaf ``a`` every
+   dependent category ``d`` the statistics have seen resting on ``a``'s category is a
+   candidate, added with probability ``k * freq / total`` where ``freq`` is how often
+   ``d`` rested on an ``a`` and ``total`` how many ``a`` there were (rates above 1 add
+   ``floor(rate)`` copies and one more with the remainder's probability: four books per
+   shelf stay four). Each added node gets a functional anchor among the objects already
+   on the same support with the functional statistics' frequencies, and joins the queue.
+3. **Cap**: at most ``N_max`` objects.
+
+Modes:
+
+- ``fit``: ``N_max`` is drawn from the room type's distribution of objects per training
+  room, and expansion passes repeat (each pass offers every node's candidates again) until
+  the scene has ``N_max`` objects or a pass adds nothing: object counts follow the
+  training distribution.
+- ``beyond``: ``N_max`` is ``max_objects`` (default 80); extra floor furniture that holds
+  objects (shelves, tables, dressers seen in that room type) is added to the template, one
+  piece per ~10 requested objects, and passes repeat until ``N_max``: scenes denser than
+  any training room.
+
+Everything draws from one ``numpy.random.Generator`` seeded by ``seed``: same seed, same
+statistics, same hierarchy.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from pair2scene.categories import BY_NAME
+from pair2scene.curation.stats import HierarchyStats
+from pair2scene.errors import UserError
+from pair2scene.hierarchy.tree import NOT_OBJECTS, Hierarchy, Node
+from pair2scene.scene.model import FLOOR
+
+DEFAULT_STATS = Path(__file__).parent / "stats.json"
+"""Statistics of the curated AI2-THOR + ProcTHOR-1k train rooms, shipped with the package
+(``pair2scene curate ... --out DIR`` writes the same file as ``DIR/stats.json``)."""
+MODES = ("fit", "beyond")
+DEFAULT_BEYOND_OBJECTS = 80
+MAX_PASSES = 50
+"""Expansion passes before giving up on reaching the target count."""
+MAX_K_BOOST = 64.0
+"""A pass that adds nothing doubles k for the next one (rare dependents of few anchors,
+as in bathrooms), up to this factor: the proportions between candidates stay the
+statistics', only the pace changes."""
+OBJECTS_PER_EXTRA_FURNITURE = 10
+"""``beyond``: one extra piece of furniture that holds objects per this many requested
+objects beyond what the template holds."""
+
+
+@dataclass(frozen=True)
+class SynthesisConfig:
+    """How :func:`synthesize` builds a hierarchy."""
+
+    mode: str = "fit"
+    """``fit`` (counts follow the training rooms) or ``beyond`` (up to ``max_objects``)."""
+    max_objects: int | None = None
+    """N_max. ``beyond``: the target (default 80); ``fit``: a cap on the drawn count."""
+    k: float = 1.0
+    """Scales every candidate's probability (the method's k)."""
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise UserError(f"unknown mode {self.mode!r}; choose one of {', '.join(MODES)}")
+        if self.max_objects is not None and self.max_objects < 1:
+            raise UserError("--max-objects must be >= 1")
+        if not self.k > 0:
+            raise UserError("k must be > 0")
+
+
+@lru_cache(maxsize=4)
+def _load_stats(path: str) -> HierarchyStats:
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as e:
+        raise UserError(f"{p}: cannot read statistics ({e.strerror})") from None
+    return HierarchyStats.from_json(text, str(p))
+
+
+def load_stats(path: str | Path | None = None) -> HierarchyStats:
+    """Hierarchy statistics from a ``stats.json`` (None: the bundled ones)."""
+    return _load_stats(str(DEFAULT_STATS if path is None else Path(path)))
+
+
+class Statistics:
+    """Rates and choices derived from :class:`HierarchyStats` (all plain lookups)."""
+
+    def __init__(self, stats: HierarchyStats) -> None:
+        self.stats = stats
+        instances: Counter[str] = Counter()
+        for deps in stats.sup_dep.values():
+            instances.update(deps)
+        self.instances = instances
+        """category -> how many objects of it the training rooms held (on any support)."""
+        on_floor = stats.sup_dep.get(FLOOR, {})
+        self.floor_standing = frozenset(
+            c for c, n in instances.items() if 2 * on_floor.get(c, 0) > n
+        )
+        """Categories that rest on the floor in most of their training instances (furniture,
+        counters): never expanded onto another object."""
+
+    def room(self, room_type: str):
+        rs = self.stats.room_types.get(room_type)
+        if rs is None or not rs.layouts:
+            known = ", ".join(sorted(self.stats.room_types))
+            raise UserError(f"unknown room type {room_type!r}; the statistics know: {known}")
+        return rs
+
+    def dependents(self, anchor: str) -> list[tuple[str, float]]:
+        """(category, rate per anchor instance) of every object seen resting on ``anchor``."""
+        deps = self.stats.sup_dep.get(anchor, {})
+        total = self.instances.get(anchor, 0) if anchor != FLOOR else self.stats.rooms
+        if not total:
+            return []
+        return [
+            (d, n / total)
+            for d, n in sorted(deps.items())
+            if d in BY_NAME
+            and BY_NAME[d].super not in NOT_OBJECTS
+            and (anchor == FLOOR or d not in self.floor_standing)
+        ]
+
+    def functional_choice(
+        self, support: str, category: str, siblings: list[Node], rng: np.random.Generator
+    ) -> Node | None:
+        """A functional anchor for a new ``category`` object among ``siblings`` on a
+        ``support`` category, drawn with the statistics' frequencies (or none)."""
+        per_anchor = self.stats.func_dep.get(support, {})
+        weights = [per_anchor.get(s.category, {}).get(category, 0) for s in siblings]
+        with_anchor = sum(per_anchor.get(a, {}).get(category, 0) for a in per_anchor)
+        placed = self.stats.sup_dep.get(support, {}).get(category, 0)
+        if not with_anchor or not placed or not any(weights):
+            return None
+        if rng.random() >= min(1.0, with_anchor / placed):
+            return None
+        w = np.asarray(weights, dtype=float)
+        return siblings[int(rng.choice(len(siblings), p=w / w.sum()))]
+
+
+def _draw(counter: Counter, rng: np.random.Generator):
+    keys = sorted(counter)
+    w = np.array([counter[k] for k in keys], dtype=float)
+    return keys[int(rng.choice(len(keys), p=w / w.sum()))]
+
+
+def _stochastic_round(x: float, rng: np.random.Generator) -> int:
+    whole = int(np.floor(x))
+    return whole + int(rng.random() < x - whole)
+
+
+def holds_objects(stats: Statistics, category: str) -> bool:
+    """Whether objects were seen resting on ``category`` (a surface worth adding)."""
+    return bool(stats.dependents(category))
+
+
+def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
+    """Template order: categories that serve as functional anchors on the floor first
+    (tables before the chairs at them), then by name; stable for equal keys."""
+    floor_anchors = stats.stats.func_dep.get(FLOOR, {})
+
+    def key(c: str) -> tuple[int, str]:
+        return (0 if c in floor_anchors else 1, c)
+
+    return sorted(categories, key=key)
+
+
+def add_floor_furniture(h: Hierarchy, categories: list[str], stats: Statistics, rng) -> None:
+    """Add floor furniture in anchor-first order, each with a drawn functional anchor."""
+    for cat in anchor_first(categories, stats):
+        siblings = [n for n in h.children(FLOOR) if n.id not in h.functional]
+        anchor = stats.functional_choice(FLOOR, cat, siblings, rng)
+        h.add(cat, FLOOR, None if anchor is None else anchor.id)
+
+
+def expand(
+    h: Hierarchy,
+    stats: Statistics,
+    target: int,
+    rng: np.random.Generator,
+    k: float = 1.0,
+    fixed: frozenset[str] = frozenset(),
+    passes: int = MAX_PASSES,
+    skip: frozenset[str] = frozenset(),
+) -> int:
+    """Expansion passes (the module docstring's step 2) until ``target`` objects; returns
+    how many passes ran. Nodes in ``fixed`` get no dependents, categories in ``skip`` are
+    never added; the floor is never expanded here. A pass that adds nothing doubles k (up
+    to :data:`MAX_K_BOOST` times)."""
+    boost = 1.0
+    for done in range(passes):
+        if len(h) >= target:
+            return done
+        before = len(h)
+        queue = [n for n in h.nodes if n.id not in fixed]
+        head = 0
+        while head < len(queue) and len(h) < target:
+            anchor = queue[head]
+            head += 1
+            candidates = [c for c in stats.dependents(anchor.category) if c[0] not in skip]
+            for i in rng.permutation(len(candidates)):
+                cat, rate = candidates[i]
+                for _ in range(_stochastic_round(k * boost * rate, rng)):
+                    if len(h) >= target:
+                        break
+                    siblings = h.children(anchor.id)
+                    func = stats.functional_choice(anchor.category, cat, siblings, rng)
+                    node = h.add(cat, anchor.id, None if func is None else func.id)
+                    if done == 0:
+                        queue.append(node)
+        if len(h) == before:
+            offered = (
+                c for n in h.nodes if n.id not in fixed for c in stats.dependents(n.category)
+            )
+            if not any(c[0] not in skip for c in offered):
+                return done + 1
+            boost = min(2 * boost, MAX_K_BOOST)
+    return passes
+
+
+def synthesize(
+    stats: HierarchyStats | None, room_type: str, config: SynthesisConfig = SynthesisConfig()
+) -> Hierarchy:
+    """A hierarchy for ``room_type`` (see the module docstring); ``stats`` None: bundled."""
+    st = Statistics(load_stats() if stats is None else stats)
+    rs = st.room(room_type)
+    rng = np.random.default_rng(config.seed)
+    h = Hierarchy(room_type)
+    template = list(_draw(rs.layouts, rng))
+    if config.mode == "fit":
+        target = int(_draw(rs.object_counts, rng))
+        if config.max_objects is not None:
+            target = min(target, config.max_objects)
+    else:
+        target = config.max_objects or DEFAULT_BEYOND_OBJECTS
+        template += extra_furniture(st, rs, target, len(template), rng)
+    if len(template) > target:
+        template = [template[i] for i in sorted(rng.permutation(len(template))[:target])]
+        h.notes.append(f"template cut to {target} pieces by the object cap")
+    add_floor_furniture(h, template, st, rng)
+    expand(h, st, target, rng, config.k)
+    if len(h) < target:
+        h.notes.append(
+            f"{len(h)} of {target} objects: the statistics offer no more dependents for this "
+            "furniture"
+        )
+    return h.validate()
+
+
+def extra_furniture(st: Statistics, rs, target: int, have: int, rng) -> list[str]:
+    """``beyond``: furniture of this room type that holds objects, one piece per
+    :data:`OBJECTS_PER_EXTRA_FURNITURE` objects beyond the template's share. Categories
+    no training room of the type had twice of (beds) are not repeated."""
+    counts = rs.furniture_counts()
+    pool = Counter(
+        {c: sum(n for k, n in hist.items() if k > 0) for c, hist in counts.items()
+         if holds_objects(st, c) and max(hist) >= 2}
+    )  # fmt: skip
+    if not pool:
+        return []
+    n_extra = max(0, (target - have * OBJECTS_PER_EXTRA_FURNITURE) // OBJECTS_PER_EXTRA_FURNITURE)
+    return [_draw(pool, rng) for _ in range(n_extra)]
+
+
+def stats_summary(stats: HierarchyStats) -> str:
+    """Room types and mean objects per room, for messages."""
+    parts = []
+    for rtype, rs in sorted(stats.room_types.items()):
+        mean = sum(k * n for k, n in rs.object_counts.items()) / max(rs.rooms, 1)
+        parts.append(f"{rtype} ({rs.rooms} rooms, {mean:.1f} objects)")
+    return ", ".join(parts)
+
+
+def training_mean(stats: HierarchyStats, room_type: str) -> float:
+    """Mean placed objects per training room of ``room_type``."""
+    rs = Statistics(stats).room(room_type)
+    return sum(k * n for k, n in rs.object_counts.items()) / max(rs.rooms, 1)

@@ -1,0 +1,303 @@
+"""Scene hierarchies: a support tree rooted at the floor and one functional tree per support.
+
+A :class:`Hierarchy` is the structure of a scene before any placement: which objects
+(:class:`Node`), what each rests on (``support``: the floor or another node) and what
+it is placed relative to (``functional``: an object on the same support, optional).
+
+- The **support tree** has the floor as its root and an edge support -> dependent for
+  every node.
+- A **functional tree** exists for every support node (the floor included) that has
+  dependents. It is rooted at that support; a dependent with a functional anchor hangs
+  under its anchor, one without hangs under the root. Every node of it rests on its
+  root.
+- The **sequence** (:meth:`Hierarchy.sequence`) orders the relation tuples for
+  placement: breadth-first over the support tree, and at each support a depth-first walk
+  of its functional tree. Every anchor (support or functional) comes before its
+  dependents.
+
+:meth:`Hierarchy.validate` checks everything a placement relies on and raises a
+:class:`HierarchyError` (a one-line :class:`UserError`) naming the problem: unknown or
+structural categories, duplicate ids, missing or cyclic supports, functional anchors on
+another support, cyclic functional anchors.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+from pair2scene.categories import BY_NAME, SuperCategory
+from pair2scene.errors import UserError
+from pair2scene.scene.model import FLOOR
+
+HIERARCHY_FORMAT = "pair2scene.hierarchy"
+HIERARCHY_VERSION = 1
+NOT_OBJECTS = (SuperCategory.STRUCTURE, SuperCategory.PART)
+"""Super-categories that are never nodes: the room itself, and parts of furniture (the
+generator builds drawers and shelves with their owner)."""
+
+
+class HierarchyError(UserError):
+    """An invalid hierarchy (from a file, an LLM or a user): one line naming the problem."""
+
+
+@dataclass(frozen=True)
+class Node:
+    """One object of a hierarchy."""
+
+    id: str
+    """Unique within the hierarchy; never ``floor``."""
+    category: str
+    """Canonical category (:mod:`pair2scene.categories`)."""
+
+
+@dataclass(frozen=True)
+class SequenceItem:
+    """One relation tuple of the placement order."""
+
+    dependent: Node
+    support: str
+    """``floor`` or a node id placed earlier in the sequence."""
+    functional: str | None
+    """A node id placed earlier, resting on the same support; None without one."""
+
+
+@dataclass(frozen=True)
+class FunctionalTree:
+    """The objects resting on one support, as a tree rooted at that support."""
+
+    support: str
+    """The root: ``floor`` or a node id."""
+    edges: tuple[tuple[str, str], ...]
+    """(anchor, dependent) pairs; the anchor is the root for dependents without a
+    functional anchor."""
+
+
+@dataclass
+class Hierarchy:
+    """Nodes, their supports and functional anchors (see the module docstring)."""
+
+    room_type: str
+    nodes: list[Node] = field(default_factory=list)
+    support: dict[str, str] = field(default_factory=dict)
+    """node id -> ``floor`` or the id of the node it rests on."""
+    functional: dict[str, str] = field(default_factory=dict)
+    """node id -> the id of its functional anchor (only nodes that have one)."""
+    notes: list[str] = field(default_factory=list)
+    """What a builder wants the user to know (unparsed words, completions, caps)."""
+
+    # -- building -------------------------------------------------------------------------
+
+    def add(self, category: str, support: str, functional: str | None = None) -> Node:
+        """Add a node of ``category`` resting on ``support``; its id is ``<category>_<n>``."""
+        n = sum(1 for node in self.nodes if node.category == category)
+        node_id = f"{category}_{n}"
+        while node_id in self.support:
+            n += 1
+            node_id = f"{category}_{n}"
+        node = Node(node_id, category)
+        self.nodes.append(node)
+        self.support[node_id] = support
+        if functional is not None:
+            self.functional[node_id] = functional
+        return node
+
+    def by_id(self) -> dict[str, Node]:
+        return {n.id: n for n in self.nodes}
+
+    def children(self, parent: str) -> list[Node]:
+        """Nodes resting on ``parent``, in insertion order."""
+        return [n for n in self.nodes if self.support.get(n.id) == parent]
+
+    def category_counts(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for n in self.nodes:
+            out[n.category] = out.get(n.category, 0) + 1
+        return dict(sorted(out.items()))
+
+    def __len__(self) -> int:
+        return len(self.nodes)
+
+    # -- validation -----------------------------------------------------------------------
+
+    def validate(self) -> Hierarchy:
+        """Raise :class:`HierarchyError` on the first problem; return self when valid."""
+        seen: set[str] = set()
+        for n in self.nodes:
+            if not isinstance(n.id, str) or not n.id:
+                raise HierarchyError("a node has an empty id")
+            if n.id == FLOOR:
+                raise HierarchyError("'floor' is the root of the support tree, not a node id")
+            if n.id in seen:
+                raise HierarchyError(f"node id {n.id!r} appears twice")
+            seen.add(n.id)
+            cat = BY_NAME.get(n.category)
+            if cat is None:
+                raise HierarchyError(f"node {n.id!r}: unknown category {n.category!r}")
+            if cat.super in NOT_OBJECTS:
+                raise HierarchyError(
+                    f"node {n.id!r}: {n.category!r} is {cat.super.value}, not an object"
+                )
+        for node_id in self.support:
+            if node_id not in seen:
+                raise HierarchyError(f"support given for {node_id!r}, which is not a node")
+        for node_id in self.functional:
+            if node_id not in seen:
+                raise HierarchyError(f"functional anchor given for {node_id!r}, not a node")
+        for n in self.nodes:
+            parent = self.support.get(n.id)
+            if parent is None:
+                raise HierarchyError(f"node {n.id!r} has no support")
+            if parent != FLOOR and parent not in seen:
+                raise HierarchyError(f"node {n.id!r} rests on {parent!r}, which is not a node")
+            if parent == n.id:
+                raise HierarchyError(f"node {n.id!r} rests on itself")
+        for n in self.nodes:  # grounded: every chain of supports reaches the floor
+            chain, at = [n.id], self.support[n.id]
+            while at != FLOOR:
+                if at in chain:
+                    cycle = " -> ".join([*chain[chain.index(at) :], at])
+                    raise HierarchyError(f"support cycle: {cycle} (never reaches the floor)")
+                chain.append(at)
+                at = self.support[at]
+        for node_id, anchor in self.functional.items():
+            if anchor == node_id:
+                raise HierarchyError(f"node {node_id!r} is its own functional anchor")
+            if anchor not in seen:
+                raise HierarchyError(
+                    f"node {node_id!r}: functional anchor {anchor!r} is not a node"
+                )
+            if self.support[anchor] != self.support[node_id]:
+                raise HierarchyError(
+                    f"node {node_id!r} rests on {self.support[node_id]!r} but its functional "
+                    f"anchor {anchor!r} rests on {self.support[anchor]!r}: a functional "
+                    "anchor must share the support"
+                )
+        for node_id in self.functional:
+            chain, at = [node_id], self.functional[node_id]
+            while at in self.functional:
+                if at in chain:
+                    cycle = " -> ".join([*chain[chain.index(at) :], at])
+                    raise HierarchyError(f"functional cycle: {cycle}")
+                chain.append(at)
+                at = self.functional[at]
+        return self
+
+    # -- trees and order ------------------------------------------------------------------
+
+    def support_edges(self) -> list[tuple[str, str]]:
+        """(parent, child) edges of the support tree, breadth-first from the floor."""
+        out, queue = [], deque([FLOOR])
+        while queue:
+            parent = queue.popleft()
+            for child in self.children(parent):
+                out.append((parent, child.id))
+                queue.append(child.id)
+        return out
+
+    def functional_tree(self, support: str) -> FunctionalTree:
+        """The functional tree rooted at ``support`` (see the module docstring)."""
+        edges = tuple((self.functional.get(n.id, support), n.id) for n in self.children(support))
+        return FunctionalTree(support, edges)
+
+    def functional_trees(self) -> list[FunctionalTree]:
+        """One tree per support that has dependents, in breadth-first support order."""
+        supports = [FLOOR, *(child for _, child in self.support_edges())]
+        return [self.functional_tree(s) for s in supports if self.children(s)]
+
+    def sequence(self) -> list[SequenceItem]:
+        """The placement order: BFS over supports, DFS over each functional tree."""
+        by_id = self.by_id()
+        out: list[SequenceItem] = []
+        queue = deque([FLOOR])
+        while queue:
+            support = queue.popleft()
+            tree = self.functional_tree(support)
+            below: dict[str, list[str]] = {}
+            for anchor, dep in tree.edges:
+                below.setdefault(anchor, []).append(dep)
+            stack = list(reversed(below.get(support, [])))
+            while stack:
+                node_id = stack.pop()
+                out.append(SequenceItem(by_id[node_id], support, self.functional.get(node_id)))
+                queue.append(node_id)
+                stack.extend(reversed(below.get(node_id, [])))
+        return out
+
+    # -- JSON -----------------------------------------------------------------------------
+
+    def to_dict(self, **extra) -> dict:
+        """The hierarchy as JSON types: nodes, support_tree, functional_trees, sequence."""
+        cat = {n.id: n.category for n in self.nodes}
+        cat[FLOOR] = FLOOR
+
+        def ref(node_id: str | None) -> dict | None:
+            return None if node_id is None else {"id": node_id, "category": cat[node_id]}
+
+        return {
+            "format": HIERARCHY_FORMAT,
+            "version": HIERARCHY_VERSION,
+            "room_type": self.room_type,
+            **extra,
+            "objects": len(self.nodes),
+            "category_counts": self.category_counts(),
+            "nodes": [{"id": n.id, "category": n.category} for n in self.nodes],
+            "support_tree": {
+                "root": FLOOR,
+                "edges": [{"parent": ref(p), "child": ref(c)} for p, c in self.support_edges()],
+            },
+            "functional_trees": [
+                {
+                    "support_anchor": ref(t.support),
+                    "edges": [{"anchor": ref(a), "dependent": ref(d)} for a, d in t.edges],
+                }
+                for t in self.functional_trees()
+            ],
+            "sequence": [
+                {
+                    "dependent": ref(s.dependent.id),
+                    "support": ref(s.support),
+                    "functional_anchor": ref(s.functional),
+                }
+                for s in self.sequence()
+            ],
+            "notes": list(self.notes),
+        }
+
+    @classmethod
+    def from_dict(cls, doc: Mapping, where: str = "hierarchy") -> Hierarchy:
+        """Read :meth:`to_dict`'s ``nodes`` + ``support_tree`` + ``functional_trees`` (the
+        sequence is derived, never read) and validate."""
+        try:
+            nodes = [Node(str(n["id"]), str(n["category"])) for n in doc["nodes"]]
+            h = cls(str(doc.get("room_type") or "other"), nodes)
+            for e in doc["support_tree"]["edges"]:
+                h.support[str(_ref_id(e["child"]))] = str(_ref_id(e["parent"]))
+            for t in doc.get("functional_trees", []):
+                root = str(_ref_id(t["support_anchor"]))
+                for e in t["edges"]:
+                    anchor, dep = str(_ref_id(e["anchor"])), str(_ref_id(e["dependent"]))
+                    if anchor != root:
+                        h.functional[dep] = anchor
+        except (KeyError, TypeError, AttributeError) as e:
+            msg = f"{where}: malformed hierarchy ({type(e).__name__}: {e})"
+            raise HierarchyError(msg) from None
+        return h.validate()
+
+
+def _ref_id(ref) -> str:
+    return ref["id"] if isinstance(ref, Mapping) else ref
+
+
+def object_categories() -> list[str]:
+    """Every category a hierarchy may hold (not structure, not parts, not unknown)."""
+    return [c.name for c in BY_NAME.values() if c.super not in NOT_OBJECTS]
+
+
+def check_categories(names: Iterable[str]) -> None:
+    """Raise HierarchyError for the first name that is not an object category."""
+    for name in names:
+        cat = BY_NAME.get(name)
+        if cat is None or cat.super in NOT_OBJECTS:
+            raise HierarchyError(f"unknown object category {name!r}")

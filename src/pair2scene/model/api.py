@@ -1,0 +1,347 @@
+"""A trained layout model, ready to score 3D-Pairs and to sample placements.
+
+>>> from pair2scene.model import from_pretrained
+>>> model = from_pretrained()                      # the bundled default (cpu preset, full)
+>>> model.score("pairs/", split="val").nll         # mean NLL per tuple (nats)
+>>> boxes = model.sample(query, n=256, temperature=0.8, generator=torch.Generator().manual_seed(0))
+
+:meth:`LayoutModel.sample` takes a :class:`PlacementQuery` (the dependent's category and
+size or asset, its support anchor and optional functional anchor as placed objects or the
+floor) and returns ``n`` candidate boxes in world coordinates, drawn from one forward pass.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections import OrderedDict
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from pair2scene.assets.mesh import Asset
+from pair2scene.curation.dataset import PairsDataset
+from pair2scene.model.checkpoint import Checkpoint, load_checkpoint
+from pair2scene.model.features import (
+    TupleArrays,
+    asset_cloud,
+    box_of,
+    build_clouds,
+    category_index,
+    dataset_features,
+    encode_clouds,
+    frame_factor,
+    from_model_frame,
+    room_cloud,
+    to_model_frame,
+)
+from pair2scene.model.layout import FUNCTIONAL, SUPPORT, LayoutBatch, LayoutPredictor
+from pair2scene.model.layout import LayoutVariant as Variant
+from pair2scene.model.mixture import BOX_DIM, MixtureParams, condition, log_prob, sample
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR
+
+EVAL_BATCH = 256
+"""Tuples per forward pass when scoring."""
+TOKEN_CACHE_ENTRIES = 512
+"""Encoded clouds :class:`LayoutModel` keeps (one per distinct asset of a scene)."""
+
+
+class CloudInputs:
+    """The geometry batches draw from: cached encoder tokens, or raw clouds."""
+
+    def __init__(self, tokens=None, centers=None, points=None) -> None:
+        self.tokens, self.centers, self.points = tokens, centers, points
+
+    def batch(self, arrays: TupleArrays, rows: np.ndarray, with_target: bool = True):
+        return arrays.batch(rows, self.tokens, self.centers, self.points, with_target)
+
+
+@torch.no_grad()
+def stored_log_prob(
+    model: LayoutPredictor,
+    arrays: TupleArrays,
+    inputs: CloudInputs,
+    batch_size: int = EVAL_BATCH,
+    with_size: bool = False,
+):
+    """(N,) float64 log density of each tuple's stored canonical vector under ``model``
+    (the scoring contract of :mod:`pair2scene.model.scoring`); with ``with_size`` also the
+    (N,) log marginal density of the stored size."""
+    was_training = model.training
+    model.eval()
+    out, size = np.zeros(len(arrays)), np.zeros(len(arrays))
+    for s in range(0, len(arrays), batch_size):
+        rows = np.arange(s, min(s + batch_size, len(arrays)))
+        batch = inputs.batch(arrays, rows)
+        params, _ = model(batch)
+        out[rows] = model.log_prob(params, batch.target).double().numpy()
+        if with_size:
+            marg = MixtureParams(params.logits, params.loc[..., 3:6], params.log_scale[..., 3:6])
+            size[rows] = log_prob(marg, batch.target[:, 3:6]).double().numpy()
+    model.train(was_training)
+    if with_size:
+        return out + arrays.log_jacobian, size + arrays.size_log_jacobian
+    return out + arrays.log_jacobian
+
+
+@dataclass(frozen=True)
+class Anchor:
+    """An anchor of a placement: a placed object, or the floor (the room)."""
+
+    category: str
+    box: OrientedBox
+    """World box; for the floor, the room's bounds (z from 0 to the room's height)."""
+    cloud: np.ndarray | None = None
+    """(N, 3) normalised cloud (:func:`~pair2scene.model.features.asset_cloud`); None:
+    built from ``asset``, or for the floor from the box."""
+    asset: Asset | None = None
+
+    @classmethod
+    def floor(cls, room_bounds: OrientedBox) -> Anchor:
+        return cls(FLOOR, room_bounds)
+
+    @property
+    def is_floor(self) -> bool:
+        return self.category == FLOOR
+
+
+@dataclass(frozen=True)
+class PlacementQuery:
+    """What to place and relative to what."""
+
+    category: str
+    """The dependent's category."""
+    size: Sequence[float]
+    """(3,) the dependent's size (m): its asset's, chosen before placement."""
+    support: Anchor
+    functional: Anchor | None = None
+    room: OrientedBox | None = None
+    """The room's bounds; needed by ``global`` models when the support is not the floor."""
+    asset: Asset | None = None
+    """The dependent's asset (its cloud); None: ``cloud`` or a procedural one."""
+    cloud: np.ndarray | None = None
+
+
+class LayoutModel:
+    """A loaded checkpoint (predictor and encoder, eval mode) with scoring and sampling."""
+
+    def __init__(self, checkpoint: Checkpoint) -> None:
+        self.checkpoint = checkpoint
+        self.predictor = checkpoint.predictor.eval()
+        self._tokens: OrderedDict[bytes, tuple[torch.Tensor, torch.Tensor]] = OrderedDict()
+        self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
+
+    @classmethod
+    def from_pretrained(cls, path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
+        """The checkpoint folder ``path``; None: the bundled default model."""
+        return cls(load_checkpoint(path, device))
+
+    @property
+    def variant(self) -> Variant:
+        return self.checkpoint.config.variant
+
+    @property
+    def n_points(self) -> int:
+        return self.checkpoint.n_points
+
+    @property
+    def encoder(self):
+        return self.predictor.point_encoder
+
+    # -- scoring -----------------------------------------------------------------------
+
+    def log_prob(self, data: PairsDataset, progress: bool = False) -> np.ndarray:
+        """(N,) float64 log density of every tuple's stored canonical vector (the
+        :class:`~pair2scene.model.scoring.Scorer` protocol)."""
+        return self._scores(data, progress)[0]
+
+    def log_prob_size(self, data: PairsDataset) -> np.ndarray:
+        """(N,) float64 log marginal density of every tuple's stored canonical size."""
+        return self._scores(data)[1]
+
+    def _scores(self, data: PairsDataset, progress: bool = False):
+        # Both densities come from one forward pass; the last dataset's are kept, since
+        # scoring asks for one and then the other.
+        if self._last_scores is not None and self._last_scores[0] is data:
+            return self._last_scores[1]
+        features = dataset_features(data, self.variant)
+        inputs = CloudInputs()
+        if self.checkpoint.config.uses_points:
+            clouds = build_clouds(features.clouds, self.n_points, progress=progress)
+            tokens, centers = encode_clouds(self.encoder, clouds, progress=progress)
+            inputs = CloudInputs(tokens=tokens, centers=centers)
+        result = stored_log_prob(self.predictor, features.arrays, inputs, with_size=True)
+        self._last_scores = (data, result)
+        return result
+
+    def score(self, data, split: str | None = "val"):
+        """:func:`pair2scene.model.scoring.score` of this model."""
+        from pair2scene.model.scoring import score
+
+        return score(self, data, split)
+
+    # -- sampling ------------------------------------------------------------------------
+
+    def _encode(self, cloud: np.ndarray) -> tuple[torch.Tensor, torch.Tensor]:
+        """Tokens (G, D) and centres (G, 3) of one normalised cloud, cached by content."""
+        key = hashlib.sha1(np.ascontiguousarray(cloud, np.float32).tobytes()).digest()
+        hit = self._tokens.get(key)
+        if hit is not None:
+            self._tokens.move_to_end(key)
+            return hit
+        tokens, centers = encode_clouds(self.encoder, cloud[None].astype(np.float32))
+        hit = (tokens[0], centers[0])
+        self._tokens[key] = hit
+        if len(self._tokens) > TOKEN_CACHE_ENTRIES:
+            self._tokens.popitem(last=False)
+        return hit
+
+    def _anchor_cloud(self, anchor: Anchor) -> np.ndarray:
+        if anchor.cloud is not None:
+            return anchor.cloud
+        if anchor.is_floor:
+            return room_cloud(anchor.box.size, self.n_points)
+        if anchor.asset is not None:
+            return asset_cloud(anchor.asset, self.n_points)
+        return _procedural_cloud(anchor.category, anchor.box.size, self.n_points)
+
+    def _query_batch(self, queries: Sequence[PlacementQuery]) -> tuple[LayoutBatch, np.ndarray]:
+        """A batch for ``queries`` and each query's model-frame factor (B, 3)."""
+        b = len(queries)
+        is_global = self.variant is Variant.GLOBAL
+        cats = torch.zeros(b, 3, dtype=torch.long)
+        scales = torch.ones(b, 3, 3)
+        boxes = torch.zeros(b, 2, BOX_DIM)
+        mask = torch.zeros(b, 3, dtype=torch.bool)
+        factors = np.ones((b, 3))
+        clouds: list[list[np.ndarray | None]] = []
+        for i, q in enumerate(queries):
+            sup = q.support
+            members: list[Anchor | None] = [None, sup, q.functional]
+            if is_global:
+                room = sup.box if sup.is_floor else q.room
+                if room is None:
+                    raise ValueError("a global model needs the room's bounds (query.room)")
+                members = [None, Anchor.floor(room), None]
+                boxes[i, 0] = torch.from_numpy(room.to_vector())
+            else:
+                factors[i] = frame_factor(sup.box.size)
+                unit = np.array([0, 0, 0, 2, 2, 2, 1, 0, 0, 0, 1, 0], dtype=np.float64)
+                boxes[i, 0] = torch.from_numpy(to_model_frame(unit, factors[i]))
+                if q.functional is not None:
+                    rel = q.functional.box.in_frame_of(sup.box).to_vector()
+                    boxes[i, 1] = torch.from_numpy(to_model_frame(rel, factors[i]))
+            cats[i, 0] = category_index(q.category)
+            scales[i, 0] = torch.tensor(np.asarray(q.size, dtype=np.float32))
+            mask[i, 0] = True
+            row_clouds: list[np.ndarray | None] = [None, None, None]
+            for m in (SUPPORT, FUNCTIONAL):
+                a = members[m]
+                if a is None:
+                    continue
+                cats[i, m] = category_index(a.category)
+                scales[i, m] = torch.tensor(a.box.size, dtype=torch.float32)
+                mask[i, m] = True
+                if self.checkpoint.config.uses_points:
+                    row_clouds[m] = self._anchor_cloud(a)
+            if self.checkpoint.config.uses_points:
+                if q.cloud is not None:
+                    row_clouds[0] = q.cloud
+                elif q.asset is not None:
+                    row_clouds[0] = asset_cloud(q.asset, self.n_points)
+                else:
+                    row_clouds[0] = _procedural_cloud(q.category, q.size, self.n_points)
+            clouds.append(row_clouds)
+        batch = LayoutBatch(cats, scales, boxes, mask.clone())
+        if self.checkpoint.config.uses_points:
+            enc = self.encoder.config
+            tokens = torch.zeros(b, 3, enc.n_groups, enc.width)
+            centers = torch.zeros(b, 3, enc.n_groups, 3)
+            for i, row in enumerate(clouds):
+                for m, cloud in enumerate(row):
+                    if cloud is not None:
+                        tokens[i, m], centers[i, m] = self._encode(cloud)
+            batch.point_tokens, batch.point_centers = tokens, centers
+        return batch, factors
+
+    @torch.no_grad()
+    def distribution(self, queries: Sequence[PlacementQuery]) -> tuple[MixtureParams, np.ndarray]:
+        """One forward pass: the mixture over each query's model-frame target, and the
+        model-frame factors (B, 3) that map its samples back (see :meth:`to_world`)."""
+        batch, factors = self._query_batch(queries)
+        params, _ = self.predictor(batch)
+        return params, factors
+
+    def to_world(self, samples: np.ndarray, query: PlacementQuery, factor: np.ndarray):
+        """Model-frame samples (..., 12) of ``query`` -> world box vectors (..., 12)
+        (centre, size, 6D; the 6D part orthonormalised)."""
+        vec = box_of(samples)
+        if self.variant is not Variant.GLOBAL:
+            canonical = from_model_frame(vec, factor)
+            sup = query.support.box
+            rot = sup.rotation
+            half = np.maximum(sup.half_size, 1e-9)
+            center = (canonical[..., 0:3] * half) @ rot.T + sup.center
+            size = canonical[..., 3:6] * half
+            c0 = canonical[..., 6:9] @ rot.T
+            c1 = canonical[..., 9:12] @ rot.T
+            vec = np.concatenate([center, size, c0, c1], axis=-1)
+        return _orthonormal_6d(vec)
+
+    def sample(
+        self,
+        query: PlacementQuery,
+        n: int = 256,
+        temperature: float = 1.0,
+        generator: torch.Generator | None = None,
+        keep_size: bool = True,
+    ) -> np.ndarray:
+        """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query.
+
+        keep_size : condition the mixture on the query's size (exact for a diagonal
+        mixture: the components are reweighted by how well they explain it), so every
+        candidate has the asset's size; False samples the size too.
+        """
+        params, factors = self.distribution([query])
+        if keep_size:
+            params = self.condition_on_size(params, [query], factors)
+        y = sample(params, n, temperature, generator)[0]  # (n, 12) mixture space
+        x = self.predictor.from_mixture_space(y).double().numpy()
+        return self.to_world(x, query, factors[0])
+
+    def condition_on_size(
+        self, params: MixtureParams, queries: Sequence[PlacementQuery], factors: np.ndarray
+    ) -> MixtureParams:
+        """``params`` conditioned on each query's known size (in the model frame)."""
+        sizes = np.stack([np.asarray(q.size, dtype=np.float64) for q in queries])  # (B, 3)
+        if self.variant is not Variant.GLOBAL:
+            half = np.stack([np.maximum(q.support.box.half_size, 1e-9) for q in queries])
+            sizes = sizes / half * factors
+        log_size = torch.from_numpy(np.log(np.maximum(sizes, 1e-6))).to(params.loc.dtype)
+        return condition(params, [3, 4, 5], log_size)
+
+
+def _procedural_cloud(category: str, size, n: int) -> np.ndarray:
+    from pair2scene.assets.registry import generate
+
+    asset = generate(category, np.asarray(size, dtype=float), np.random.default_rng(0))
+    return asset_cloud(asset, n)
+
+
+def _orthonormal_6d(vec: np.ndarray) -> np.ndarray:
+    """Gram-Schmidt the 6D part of box vectors (..., 12)."""
+    out = np.array(vec, dtype=np.float64)
+    a, b = out[..., 6:9], out[..., 9:12]
+    c0 = a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), 1e-9)
+    b = b - (c0 * b).sum(-1, keepdims=True) * c0
+    c1 = b / np.maximum(np.linalg.norm(b, axis=-1, keepdims=True), 1e-9)
+    out[..., 6:9], out[..., 9:12] = c0, c1
+    return out
+
+
+def from_pretrained(path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
+    """The layout model in checkpoint folder ``path``; None: the bundled default."""
+    return LayoutModel.from_pretrained(path, device)

@@ -1,0 +1,181 @@
+"""Layout-model checkpoints on disk: ``model.safetensors`` plus ``config.json``. No pickle.
+
+A checkpoint is a folder::
+
+    config.json          format, version, variant, preset, the layout and encoder
+                         configs, the points per cloud, the model frame, how it was trained
+    model.safetensors    the predictor's weights, the point encoder's under
+                         ``point_encoder.`` (absent for ``class-only``)
+
+Loading never executes anything from the files: JSON is parsed, tensors are read by
+safetensors. Every way a checkpoint can be wrong (missing, truncated, another format,
+weights that do not fit the config) is a one-line :class:`UserError`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from enum import Enum
+from pathlib import Path
+
+import torch
+
+from pair2scene.errors import UserError
+from pair2scene.io.atomic import atomic_write_bytes, atomic_write_text
+from pair2scene.io.jsondoc import read_json_document
+from pair2scene.model.features import MIN_ANCHOR_HALF_M
+from pair2scene.model.layout import LayoutConfig, LayoutPredictor, LayoutVariant
+from pair2scene.model.mixture import EntropyRegulariser, MixtureConfig
+from pair2scene.model.pointmae import PointMAEConfig, PointMAEEncoder
+
+FORMAT = "pair2scene.layout"
+VERSION = 1
+CONFIG_FILE = "config.json"
+WEIGHTS_FILE = "model.safetensors"
+DEFAULT_DIR = Path(__file__).parent / "default"
+"""The bundled default model (``cpu`` preset, ``full``), shipped inside the package."""
+DEFAULT_ENCODER_DIR = DEFAULT_DIR / "encoder"
+"""The bundled pre-trained Point-MAE encoder (``cpu`` preset) that ``full`` starts from."""
+
+
+def _safetensors():
+    try:
+        import safetensors.torch
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise UserError("checkpoints need safetensors: pip install 'safetensors>=0.4'") from exc
+    return safetensors.torch
+
+
+def _plain(value):
+    """Dataclass / enum trees -> JSON types."""
+    if isinstance(value, Enum):
+        return value.value
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
+def layout_config_to_dict(config: LayoutConfig) -> dict:
+    return _plain(dataclasses.asdict(config))
+
+
+def layout_config_from_dict(doc: dict) -> LayoutConfig:
+    """Inverse of :func:`layout_config_to_dict`; TypeError/ValueError/KeyError on bad input."""
+    doc = dict(doc)
+    mix = dict(doc.pop("mixture"))
+    mix["entropy_regulariser"] = EntropyRegulariser(mix["entropy_regulariser"])
+    return LayoutConfig(
+        **{**doc, "mixture": MixtureConfig(**mix), "variant": LayoutVariant(doc["variant"])}
+    )
+
+
+@dataclasses.dataclass
+class Checkpoint:
+    """A loaded checkpoint: the predictor (encoder inside) and what config.json says."""
+
+    predictor: LayoutPredictor
+    config: LayoutConfig
+    encoder_config: PointMAEConfig | None
+    n_points: int
+    preset: str
+    min_anchor_half_m: float
+    meta: dict
+    """The ``training`` record of config.json (metrics, data, timings), as stored."""
+    path: Path | None
+
+
+def save_checkpoint(
+    folder: str | Path,
+    predictor: LayoutPredictor,
+    *,
+    preset: str,
+    n_points: int,
+    encoder_config: PointMAEConfig | None,
+    training: dict | None = None,
+) -> Path:
+    """Write ``folder/model.safetensors`` and ``folder/config.json`` (each atomically,
+    weights first, so a reader never finds a config naming weights that are not there)."""
+    st = _safetensors()
+    folder = Path(folder)
+    state = {k: v.detach().cpu().contiguous() for k, v in predictor.state_dict().items()}
+    atomic_write_bytes(folder / WEIGHTS_FILE, st.save(state, metadata={"format": FORMAT}))
+    doc = {
+        "format": FORMAT,
+        "version": VERSION,
+        "variant": predictor.config.variant.value,
+        "preset": preset,
+        "weights": WEIGHTS_FILE,
+        "layout": layout_config_to_dict(predictor.config),
+        "encoder": None if encoder_config is None else dataclasses.asdict(encoder_config),
+        "n_points": n_points,
+        "min_anchor_half_m": MIN_ANCHOR_HALF_M,
+        "training": training or {},
+    }
+    atomic_write_text(folder / CONFIG_FILE, json.dumps(doc, indent=1) + "\n")
+    return folder
+
+
+def read_config(folder: str | Path) -> dict:
+    """config.json of a checkpoint folder, checked for format and version."""
+    if Path(folder).is_file():
+        raise UserError(f"{folder}: a checkpoint is a folder holding {CONFIG_FILE}")
+    return read_json_document(
+        Path(folder) / CONFIG_FILE, FORMAT, VERSION, "missing (not a layout-model checkpoint)"
+    )
+
+
+def load_checkpoint(folder: str | Path | None = None, device: str = "cpu") -> Checkpoint:
+    """The checkpoint in ``folder`` (None: the bundled default), in eval mode."""
+    st = _safetensors()
+    folder = DEFAULT_DIR if folder is None else Path(folder)
+    if folder == DEFAULT_DIR and not (folder / CONFIG_FILE).exists():
+        raise UserError("no bundled default model in this installation")
+    doc = read_config(folder)
+    where = folder / CONFIG_FILE
+    try:
+        config = layout_config_from_dict(doc["layout"])
+        enc_doc = doc.get("encoder")
+        encoder_config = None if enc_doc is None else PointMAEConfig(**enc_doc)
+        n_points = int(doc["n_points"])
+        preset = str(doc.get("preset", ""))
+        min_half = float(doc.get("min_anchor_half_m", MIN_ANCHOR_HALF_M))
+    except (TypeError, ValueError, KeyError) as e:
+        raise UserError(f"{where}: bad model config ({type(e).__name__}: {e})") from None
+    if config.uses_points and encoder_config is None:
+        raise UserError(f"{where}: variant {config.variant.value!r} needs an encoder config")
+    if min_half != MIN_ANCHOR_HALF_M:
+        raise UserError(
+            f"{where}: trained with min_anchor_half_m {min_half}, this version uses "
+            f"{MIN_ANCHOR_HALF_M}"
+        )
+    weights = folder / str(doc.get("weights", WEIGHTS_FILE))
+    try:
+        state = st.load_file(str(weights), device="cpu")
+    except FileNotFoundError:
+        raise UserError(f"{weights}: missing") from None
+    except Exception as e:  # safetensors raises its own types for truncated/corrupt files
+        raise UserError(f"{weights}: not a readable safetensors file ({e})") from None
+    encoder = PointMAEEncoder(encoder_config) if config.uses_points else None
+    predictor = LayoutPredictor(config, encoder)
+    try:
+        predictor.load_state_dict(state, strict=True)
+    except RuntimeError as e:
+        first = str(e).strip().splitlines()[0:2]
+        raise UserError(f"{weights}: weights do not fit the config ({' '.join(first)})") from None
+    bad = [k for k, v in state.items() if v.is_floating_point() and not torch.isfinite(v).all()]
+    if bad:
+        raise UserError(f"{weights}: non-finite weights in {bad[0]}")
+    predictor = predictor.to(device).eval()
+    return Checkpoint(
+        predictor=predictor,
+        config=config,
+        encoder_config=encoder_config,
+        n_points=n_points,
+        preset=preset,
+        min_anchor_half_m=min_half,
+        meta=doc.get("training") or {},
+        path=folder,
+    )

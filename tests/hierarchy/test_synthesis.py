@@ -1,0 +1,201 @@
+"""Statistical synthesis (Algorithm 1), the LLM path against a real local server, the CLI."""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from clitools import run_cli
+from llm_server import ChatServer, Reply, completion, ok
+from pair2scene.curation.stats import HierarchyStats
+from pair2scene.errors import UserError
+from pair2scene.hierarchy.build import build_hierarchy
+from pair2scene.hierarchy.llm import hierarchy_from_llm, hierarchy_from_reply
+from pair2scene.hierarchy.synthesis import (
+    SynthesisConfig,
+    load_stats,
+    synthesize,
+    training_mean,
+)
+from pair2scene.hierarchy.tree import HierarchyError
+from pair2scene.llm import LLMClient, LLMConfig
+from pair2scene.scene.model import FLOOR
+
+
+@pytest.fixture(scope="module")
+def stats() -> HierarchyStats:
+    return load_stats()
+
+
+@pytest.mark.parametrize("room", ["bedroom", "living_room", "kitchen", "bathroom"])
+def test_fit_counts_follow_the_training_rooms(stats, room):
+    counts = [len(synthesize(stats, room, SynthesisConfig(seed=s))) for s in range(200)]
+    mean = training_mean(stats, room)
+    assert abs(np.mean(counts) - mean) <= 0.15 * mean, (np.mean(counts), mean)
+    assert len(set(counts)) > 3  # a distribution, not a constant
+
+
+def test_beyond_reaches_the_requested_density(stats):
+    for seed in range(5):
+        h = synthesize(stats, "bedroom", SynthesisConfig("beyond", max_objects=80, seed=seed))
+        assert len(h) >= 60
+        assert h.category_counts().get("bed", 0) >= 1
+
+
+def test_same_seed_same_hierarchy(stats):
+    a = synthesize(stats, "kitchen", SynthesisConfig(seed=7)).to_dict()
+    b = synthesize(stats, "kitchen", SynthesisConfig(seed=7)).to_dict()
+    c = synthesize(stats, "kitchen", SynthesisConfig(seed=8)).to_dict()
+    assert a == b and a != c
+
+
+def test_synthesised_hierarchies_are_valid_and_sensible(stats):
+    for seed in range(30):
+        h = synthesize(stats, "bedroom", SynthesisConfig(seed=seed))
+        h.validate()
+        for n in h.nodes:  # furniture stands on the floor
+            if n.category in ("bed", "dresser", "desk", "sofa"):
+                assert h.support[n.id] == FLOOR
+        seq = h.sequence()
+        assert len(seq) == len(h)
+
+
+def test_functional_anchors_come_from_the_statistics(stats):
+    anchored = Counter()
+    for seed in range(100):
+        h = synthesize(stats, "living_room", SynthesisConfig(seed=seed))
+        cats = {n.id: n.category for n in h.nodes}
+        anchored.update((cats[a], cats[d]) for d, a in h.functional.items())
+    assert anchored, "no functional anchors drawn in 100 living rooms"
+    for (anchor, dep), _ in anchored.items():
+        assert any(dep in deps.get(anchor, {}) for deps in stats.func_dep.values())
+
+
+def test_bad_requests_are_user_errors(stats, tmp_path):
+    with pytest.raises(UserError, match="unknown room type 'garage'"):
+        synthesize(stats, "garage")
+    with pytest.raises(UserError, match="unknown mode"):
+        SynthesisConfig(mode="dense")
+    with pytest.raises(UserError, match="max-objects"):
+        SynthesisConfig(max_objects=0)
+    bad = tmp_path / "stats.json"
+    bad.write_text("{")
+    with pytest.raises(UserError, match="not valid JSON"):
+        load_stats(bad)
+    with pytest.raises(UserError, match="exactly one"):
+        build_hierarchy()
+    assert len(build_hierarchy(room="Living room", seed=1)) > 0
+
+
+def test_fit_cap(stats):
+    for seed in range(20):
+        assert len(synthesize(stats, "kitchen", SynthesisConfig(max_objects=5, seed=seed))) <= 5
+
+
+# -- LLM ----------------------------------------------------------------------------------
+
+GOOD = {
+    "room_type": "bedroom",
+    "objects": [
+        {"id": "bed_0", "category": "bed"},
+        {"id": "side_table_0", "category": "side_table"},
+        {"id": "side_table_1", "category": "side_table"},
+        {"id": "table_lamp_0", "category": "table_lamp"},
+        {"id": "table_lamp_1", "category": "table_lamp"},
+    ],
+    "support_tree": [
+        {"parent": "Floor", "child": "bed_0"},
+        {"parent": "Floor", "child": "side_table_0"},
+        {"parent": "Floor", "child": "side_table_1"},
+        {"parent": "side_table_0", "child": "table_lamp_0"},
+        {"parent": "side_table_1", "child": "table_lamp_1"},
+    ],
+    "functional_trees": [
+        {
+            "support_anchor": "Floor",
+            "edges": [
+                {"anchor": "bed_0", "dependent": "side_table_0"},
+                {"anchor": "bed_0", "dependent": "side_table_1"},
+            ],
+        }
+    ],
+}
+
+
+@pytest.fixture
+def llm(tmp_path):
+    with ChatServer() as server:
+        config = LLMConfig(server.base_url, "test-model")
+        yield server, LLMClient(config, tmp_path / "llm", sleep=lambda s: None)
+
+
+def test_llm_reply_becomes_a_validated_hierarchy(llm):
+    server, client = llm
+    server.replies.append(ok(GOOD))
+    h = hierarchy_from_llm(client, "a bedroom with two nightstands and a lamp on each")
+    assert h.support["table_lamp_1"] == "side_table_1"
+    assert h.functional == {"side_table_0": "bed_0", "side_table_1": "bed_0"}
+    prompt = server.requests[0].body["messages"][1]["content"]
+    assert "support_tree" in prompt and "Floor" in prompt and "side_table" in prompt
+
+
+def test_llm_gets_one_repair_round_then_a_clear_error(llm):
+    server, client = llm
+    cyclic = json.loads(json.dumps(GOOD))
+    cyclic["support_tree"][0] = {"parent": "table_lamp_0", "child": "bed_0"}
+    cyclic["support_tree"][3] = {"parent": "bed_0", "child": "table_lamp_0"}
+    server.replies += [ok(cyclic), ok(GOOD)]
+    h = hierarchy_from_llm(client, "a bedroom")
+    assert len(h) == 5 and "repair" in h.notes[-1]
+    repair = server.requests[1].body["messages"][-1]["content"]
+    assert "support cycle" in repair
+
+    unknown = json.loads(json.dumps(GOOD))
+    unknown["objects"][0]["category"] = "spaceship"
+    garbage = Reply(body=completion("this is not json"))
+    server.replies += [garbage, ok(unknown)]
+    with pytest.raises(HierarchyError, match="after one repair round: .*spaceship"):
+        hierarchy_from_llm(client, "a strange bedroom")
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda r: r["support_tree"].append({"parent": "Floor", "child": "bed_0"}), "two supports"),
+        (lambda r: r["support_tree"].append({"parent": "Floor", "child": "ghost"}), "not among"),
+        (lambda r: r["support_tree"].pop(), "has no support"),
+        (lambda r: r["functional_trees"][0].update(support_anchor="bed_0"), "does not rest on it"),
+    ],
+)
+def test_llm_reply_problems(edit, message):
+    reply = json.loads(json.dumps(GOOD))
+    edit(reply)
+    with pytest.raises(HierarchyError, match=message):
+        hierarchy_from_reply(reply)
+
+
+# -- CLI ----------------------------------------------------------------------------------
+
+
+def test_cli_room_json_and_errors():
+    proc = run_cli("hierarchy", "--room", "bedroom", "--seed", "2", "--json")
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(proc.stdout)
+    assert doc["room_type"] == "bedroom" and doc["objects"] == len(doc["sequence"])
+    assert {"support_tree", "functional_trees", "sequence", "nodes"} <= set(doc)
+    edge = doc["support_tree"]["edges"][0]
+    assert edge["parent"] == {"id": "floor", "category": "floor"}
+    proc = run_cli("hierarchy", "--room", "bedroom", "--mode", "beyond", "--max-objects", "80")
+    assert proc.returncode == 0 and proc.stdout.startswith("bedroom: 80 objects")
+    for args, msg in [
+        (["--room", "garage"], "unknown room type"),
+        (["--room", "bedroom", "--text", "a bed"], "exactly one"),
+        (["--room", "bedroom", "--mode", "sideways"], "unknown mode"),
+        (["--room", "bedroom", "--stats", "/nonexistent/stats.json"], "cannot read"),
+    ]:
+        proc = run_cli("hierarchy", *args)
+        assert proc.returncode == 2 and msg in proc.stderr, (args, proc.stderr)
+        assert proc.stderr.count("\n") == 1

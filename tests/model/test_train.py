@@ -1,0 +1,274 @@
+"""Training, checkpoints, resume, from_pretrained and sampling, on the tiny preset (seconds)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from clitools import run_cli  # noqa: E402
+from pair2scene.curation.dataset import load_pairs  # noqa: E402
+from pair2scene.errors import UserError  # noqa: E402
+from pair2scene.model import from_pretrained  # noqa: E402
+from pair2scene.model import train as train_mod  # noqa: E402
+from pair2scene.model.api import Anchor, PlacementQuery  # noqa: E402
+from pair2scene.model.checkpoint import CONFIG_FILE, WEIGHTS_FILE, load_checkpoint  # noqa: E402
+from pair2scene.model.pointmae import PointMAEConfig, PointMAEEncoder  # noqa: E402
+from pair2scene.model.pretrain import save_encoder  # noqa: E402
+from pair2scene.model.scoring import load_model, score, select_rows  # noqa: E402
+from pair2scene.model.train import TrainConfig, train  # noqa: E402
+from pair2scene.scene.geometry import OrientedBox  # noqa: E402
+from synthetic_pairs import write_synthetic_pairs  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def pairs_dir(tmp_path_factory):
+    return write_synthetic_pairs(tmp_path_factory.mktemp("pairs"))
+
+
+@pytest.fixture(scope="module")
+def tiny_encoder(tmp_path_factory):
+    """A tiny-preset encoder (random weights: training only needs its interface)."""
+    folder = tmp_path_factory.mktemp("encoder")
+    save_encoder(PointMAEEncoder(PointMAEConfig.tiny(), torch.Generator().manual_seed(0)), folder)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory, pairs_dir, tiny_encoder):
+    out = tmp_path_factory.mktemp("run")
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), epochs=3)
+    return train(cfg, pairs_dir, out, progress=False)
+
+
+def test_tiny_training_learns_and_writes_a_checkpoint(trained):
+    out = trained.out_dir
+    assert (out / WEIGHTS_FILE).is_file() and (out / CONFIG_FILE).is_file()
+    assert [h["epoch"] for h in trained.history] == [1, 2, 3]
+    vals = [h["val_nll"] for h in trained.history]
+    assert all(np.isfinite(vals))
+    assert vals[-1] < vals[0]  # it learns something in 3 tiny epochs
+    doc = json.loads((out / CONFIG_FILE).read_text())
+    assert doc["variant"] == "full" and doc["preset"] == "tiny"
+    assert doc["training"]["best_epoch"] == trained.best_epoch
+    assert doc["training"]["val_nll"] == pytest.approx(trained.best_val_nll)
+
+
+def test_score_of_the_checkpoint_is_the_training_val_nll(trained, pairs_dir):
+    model = from_pretrained(trained.out_dir)
+    result = score(model, pairs_dir, "val")
+    assert result.n == 24
+    assert result.nll == pytest.approx(trained.best_val_nll, rel=1e-5, abs=1e-4)
+    assert score(load_model(str(trained.out_dir)), pairs_dir).nll == pytest.approx(result.nll)
+    # the placement given the size: log p(x) - log p(size), from the same forward pass
+    val = load_pairs(pairs_dir)
+    val = select_rows(val, val.split == "val")
+    lp, lps = model.log_prob(val), model.log_prob_size(val)
+    assert result.nll_given_size == pytest.approx(float(np.mean(lps - lp)), rel=1e-9)
+    assert np.isfinite(lps).all()
+
+
+def test_same_seed_same_weights(trained, pairs_dir, tiny_encoder, tmp_path):
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), epochs=3)
+    train(cfg, pairs_dir, tmp_path, progress=False)
+    a = (trained.out_dir / WEIGHTS_FILE).read_bytes()
+    assert (tmp_path / WEIGHTS_FILE).read_bytes() == a
+
+
+def test_resume_after_interruption_gives_the_same_model(
+    trained, pairs_dir, tiny_encoder, tmp_path, monkeypatch
+):
+    save_state = train_mod._save_state
+    calls = []
+
+    def interrupt_after_first_epoch(*args, **kwargs):
+        save_state(*args, **kwargs)
+        calls.append(1)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(train_mod, "_save_state", interrupt_after_first_epoch)
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), epochs=3)
+    with pytest.raises(KeyboardInterrupt):
+        train(cfg, pairs_dir, tmp_path, progress=False)
+    assert json.loads((tmp_path / "train_state.json").read_text())["epoch"] == 0
+    result = train(cfg, pairs_dir, tmp_path, progress=False)
+    assert [h["epoch"] for h in result.history] == [1, 2, 3]
+    assert (tmp_path / WEIGHTS_FILE).read_bytes() == (trained.out_dir / WEIGHTS_FILE).read_bytes()
+
+
+def test_another_run_in_the_same_folder_is_refused(trained, pairs_dir, tiny_encoder):
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), epochs=3, seed=5)
+    with pytest.raises(UserError, match="another training run"):
+        train(cfg, pairs_dir, trained.out_dir, progress=False)
+
+
+@pytest.mark.parametrize("variant", ["class-only", "global", "no-pretrain"])
+def test_every_variant_trains_and_scores(variant, pairs_dir, tiny_encoder, tmp_path):
+    cfg = TrainConfig(preset="tiny", variant=variant, encoder=str(tiny_encoder), epochs=1)
+    result = train(cfg, pairs_dir, tmp_path, progress=False)
+    model = from_pretrained(tmp_path)
+    assert model.variant.value == variant
+    assert score(model, pairs_dir).nll == pytest.approx(result.best_val_nll, rel=1e-5, abs=1e-4)
+
+
+def test_encoder_of_another_preset_is_a_user_error(pairs_dir, tmp_path, tiny_encoder):
+    cfg = TrainConfig(preset="cpu", encoder=str(tiny_encoder), epochs=1)
+    with pytest.raises(UserError, match="not the 'cpu' preset's"):
+        train(cfg, pairs_dir, tmp_path, progress=False)
+    with pytest.raises(UserError, match="unknown variant"):
+        train(TrainConfig(preset="tiny", variant="nope"), pairs_dir, tmp_path, progress=False)
+    with pytest.raises(UserError, match="unknown preset"):
+        train(TrainConfig(preset="huge"), pairs_dir, tmp_path, progress=False)
+
+
+# -- checkpoints ------------------------------------------------------------------------
+
+
+def _copy(src, dst):
+    dst.mkdir(exist_ok=True)
+    for name in (CONFIG_FILE, WEIGHTS_FILE):
+        (dst / name).write_bytes((src / name).read_bytes())
+    return dst
+
+
+def test_corrupt_or_truncated_checkpoints_are_one_line_errors(trained, tmp_path):
+    good = trained.out_dir
+    weights = (good / WEIGHTS_FILE).read_bytes()
+
+    truncated = _copy(good, tmp_path / "truncated")
+    (truncated / WEIGHTS_FILE).write_bytes(weights[: len(weights) // 2])
+    with pytest.raises(UserError, match="not a readable safetensors file"):
+        load_checkpoint(truncated)
+
+    garbage = _copy(good, tmp_path / "garbage")
+    (garbage / WEIGHTS_FILE).write_bytes(b"\x00" * 64)
+    with pytest.raises(UserError, match="not a readable safetensors file"):
+        load_checkpoint(garbage)
+
+    missing = _copy(good, tmp_path / "missing")
+    (missing / WEIGHTS_FILE).unlink()
+    with pytest.raises(UserError, match="missing"):
+        load_checkpoint(missing)
+
+    bad_json = _copy(good, tmp_path / "bad_json")
+    (bad_json / CONFIG_FILE).write_text("{not json")
+    with pytest.raises(UserError, match="not readable JSON"):
+        load_checkpoint(bad_json)
+
+    other = _copy(good, tmp_path / "other")
+    doc = json.loads((other / CONFIG_FILE).read_text())
+    (other / CONFIG_FILE).write_text(json.dumps({**doc, "format": "something.else"}))
+    with pytest.raises(UserError, match="format is not"):
+        load_checkpoint(other)
+
+    resized = _copy(good, tmp_path / "resized")
+    doc["layout"]["width"] = 64
+    (resized / CONFIG_FILE).write_text(json.dumps(doc))
+    with pytest.raises(UserError, match="do not fit the config"):
+        load_checkpoint(resized)
+
+    broken = _copy(good, tmp_path / "broken")
+    doc = json.loads((good / CONFIG_FILE).read_text())
+    del doc["layout"]["mixture"]
+    (broken / CONFIG_FILE).write_text(json.dumps(doc))
+    with pytest.raises(UserError, match="bad model config"):
+        load_checkpoint(broken)
+
+
+def test_cli_reports_a_truncated_checkpoint_in_one_line(trained, pairs_dir, tmp_path):
+    bad = _copy(trained.out_dir, tmp_path / "bad")
+    w = (bad / WEIGHTS_FILE).read_bytes()
+    (bad / WEIGHTS_FILE).write_bytes(w[:100])
+    proc = run_cli("score", "--model", str(bad), "--data", str(pairs_dir))
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("error: ") and proc.stderr.count("\n") == 1
+    assert "Traceback" not in proc.stderr
+
+
+def test_cli_train_then_score(pairs_dir, tiny_encoder, tmp_path):
+    out = tmp_path / "run"
+    args = ["--data", str(pairs_dir), "--out", str(out), "--preset", "tiny"]
+    proc = run_cli("train", *args, "--encoder", str(tiny_encoder), "--epochs", "1", "--json")
+    assert proc.returncode == 0, proc.stderr
+    trained = json.loads(proc.stdout)
+    proc = run_cli("score", "--model", str(out), "--data", str(pairs_dir), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["nll"] == pytest.approx(trained["val_nll"], rel=1e-5)
+    proc = run_cli("train", *args, "--variant", "sideways")
+    assert proc.returncode == 2 and "unknown variant" in proc.stderr
+
+
+def test_cli_pretrain_tiny(tmp_path):
+    proc = run_cli("pretrain", "--preset", "tiny", "--steps", "2", "--out", str(tmp_path), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "encoder.safetensors").is_file() and (tmp_path / "pointmae.json").is_file()
+    assert json.loads(proc.stdout)["steps"] == 2
+
+
+# -- sampling ---------------------------------------------------------------------------
+
+
+def _query(model_dir, pairs_dir):
+    data = load_pairs(pairs_dir)
+    desk = OrientedBox.from_yaw([2.0, 2.0, 0.375], [1.2, 0.6, 0.75], np.pi / 2)
+    room = OrientedBox.from_yaw([2.5, 2.0, 1.25], [5.0, 4.0, 2.5])
+    assert len(data) > 0
+    return PlacementQuery("mug", [0.1, 0.1, 0.1], Anchor("desk", desk), room=room)
+
+
+def test_sampling_is_seeded_and_keeps_the_asset_size(trained, pairs_dir):
+    model = from_pretrained(trained.out_dir)
+    q = _query(trained.out_dir, pairs_dir)
+    a = model.sample(q, n=256, temperature=0.8, generator=torch.Generator().manual_seed(3))
+    b = model.sample(q, n=256, temperature=0.8, generator=torch.Generator().manual_seed(3))
+    assert a.shape == (256, 12) and np.array_equal(a, b)
+    np.testing.assert_allclose(a[:, 3:6], 0.1, rtol=1e-5)
+    rot = np.stack([a[:, 6:9], a[:, 9:12]], -1)  # columns orthonormal
+    gram = np.einsum("nij,nik->njk", rot, rot)
+    np.testing.assert_allclose(gram, np.broadcast_to(np.eye(2), gram.shape), atol=1e-6)
+    free = model.sample(q, n=64, keep_size=False, generator=torch.Generator().manual_seed(3))
+    assert not np.allclose(free[:, 3:6], 0.1)
+
+
+def test_sampling_with_functional_anchor_and_floor(trained):
+    model = from_pretrained(trained.out_dir)
+    room = OrientedBox.from_yaw([2.5, 2.0, 1.25], [5.0, 4.0, 2.5])
+    desk = OrientedBox.from_yaw([2.0, 2.0, 0.375], [1.2, 0.6, 0.75])
+    q = PlacementQuery(
+        "chair", [0.5, 0.5, 0.9], Anchor.floor(room), functional=Anchor("desk", desk)
+    )
+    params, factors = model.distribution([q, q])
+    assert params.loc.shape == (2, 4, 12) and factors.shape == (2, 3)
+    boxes = model.sample(q, n=8, generator=torch.Generator().manual_seed(0))
+    assert np.isfinite(boxes).all()
+
+
+# -- the bundled default ----------------------------------------------------------------
+
+
+def test_bundled_default_model_loads_scores_and_samples(pairs_dir):
+    from pair2scene.model.checkpoint import DEFAULT_DIR, DEFAULT_ENCODER_DIR
+
+    size = sum(p.stat().st_size for p in DEFAULT_DIR.rglob("*") if p.is_file())
+    assert size <= 25 * 2**20
+    model = from_pretrained()
+    assert model.variant.value == "full" and model.checkpoint.preset == "cpu"
+    assert model.checkpoint.meta["val_nll"] < -30  # what docs/model.md reports
+    # the bundled encoder is the one inside the model
+    from pair2scene.model.pretrain import load_encoder
+
+    enc = load_encoder(DEFAULT_ENCODER_DIR).state_dict()
+    inside = model.encoder.state_dict()
+    assert all(torch.equal(enc[k], inside[k]) for k in enc)
+    result = score(model, pairs_dir, "val")
+    assert np.isfinite(result.nll) and result.nll_given_size is not None
+    room = OrientedBox.from_yaw([2.5, 2.0, 1.25], [5.0, 4.0, 2.5])
+    q = PlacementQuery("bed", [1.6, 2.1, 0.6], Anchor.floor(room))
+    boxes = model.sample(q, n=64, temperature=0.7, generator=torch.Generator().manual_seed(0))
+    inside_room = (np.abs(boxes[:, :2] - [2.5, 2.0]) < [2.5, 2.0]).all(1)
+    assert inside_room.mean() > 0.8  # a trained model puts beds in the room
+    np.testing.assert_allclose(boxes[:, 2], 0.3, atol=0.05)  # resting on the floor
