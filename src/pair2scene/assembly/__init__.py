@@ -1,0 +1,1 @@
+"""Scene assembly: placing a hierarchy with the layout model, collision-free and at rest."""

@@ -1,0 +1,91 @@
+"""Object sizes for generation, drawn from the training data's per-category sizes.
+
+The dependent's asset (and so its size) is chosen before it is placed (architecture.md's
+open question: draw sizes from the data, not a fixed default). :class:`SizeTable` keeps up
+to :data:`KEEP_PER_CATEGORY` observed sizes per category from a 3D-Pairs folder (the
+dependents of its train split, rounded to a millimetre); :meth:`SizeTable.draw` picks one
+and scales it by a small log-normal jitter, so sizes are real combinations of width,
+depth and height (a wide and low sofa, never a wide, deep and tall one). A category the
+data never had falls back to the asset library's typical size. The table for the AI2-THOR
++ ProcTHOR-1k train rooms ships with the package (``sizes.json``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pair2scene.errors import UserError
+from pair2scene.io.atomic import atomic_write_text
+from pair2scene.io.jsondoc import read_json_document
+
+SIZES_FORMAT = "pair2scene.sizes"
+SIZES_VERSION = 1
+DEFAULT_SIZES = Path(__file__).parent / "sizes.json"
+KEEP_PER_CATEGORY = 64
+"""Observed sizes kept per category (an even subsample of the sorted volumes beyond it)."""
+JITTER = 0.05
+"""Std of the log-normal factor on each axis of a drawn size: 5 %, below what the eye
+notices between two instances and far below the spread between categories."""
+
+
+@dataclass
+class SizeTable:
+    """Observed sizes per category."""
+
+    sizes: dict[str, np.ndarray] = field(default_factory=dict)
+    """category -> (K, 3) float sizes (m)."""
+
+    @classmethod
+    def from_pairs(cls, data, split: str | None = "train") -> SizeTable:
+        """The dependents' sizes of a :class:`~pair2scene.curation.dataset.PairsDataset`."""
+        rows = np.ones(len(data), bool) if split is None else data.split == split
+        table: dict[str, list[np.ndarray]] = {}
+        for cat, box in zip(data.dependent.category[rows], data.dependent.box[rows]):
+            table.setdefault(data.categories[cat], []).append(np.round(box[3:6], 3))
+        out = {}
+        for cat, sizes in sorted(table.items()):
+            arr = np.unique(np.stack(sizes), axis=0)
+            arr = arr[np.argsort(arr.prod(1), kind="stable")]
+            if len(arr) > KEEP_PER_CATEGORY:
+                arr = arr[np.linspace(0, len(arr) - 1, KEEP_PER_CATEGORY).round().astype(int)]
+            out[cat] = arr.astype(float)
+        return cls(out)
+
+    def draw(self, category: str, rng: np.random.Generator, jitter: float = JITTER) -> np.ndarray:
+        """A size (3,) for ``category``: an observed one, jittered; typical size if unseen."""
+        observed = self.sizes.get(category)
+        if observed is None or len(observed) == 0:
+            from pair2scene.render import typical_size
+
+            base = np.asarray(typical_size(category).size, dtype=float)
+        else:
+            base = observed[int(rng.integers(len(observed)))]
+        return base * np.exp(rng.normal(0.0, jitter, 3))
+
+    def to_json(self) -> str:
+        doc = {
+            "format": SIZES_FORMAT,
+            "version": SIZES_VERSION,
+            "sizes": {c: np.round(s, 3).tolist() for c, s in self.sizes.items()},
+        }
+        return json.dumps(doc, separators=(",", ":")) + "\n"
+
+    def save(self, path: str | Path) -> None:
+        atomic_write_text(Path(path), self.to_json())
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> SizeTable:
+        """A table written by :meth:`save` (None: the bundled one)."""
+        path = DEFAULT_SIZES if path is None else Path(path)
+        doc = read_json_document(path, SIZES_FORMAT, SIZES_VERSION)
+        try:
+            sizes = {c: np.asarray(v, dtype=float).reshape(-1, 3) for c, v in doc["sizes"].items()}
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            raise UserError(f"{path}: malformed size table ({e})") from None
+        if any((s <= 0).any() or not np.isfinite(s).all() for s in sizes.values()):
+            raise UserError(f"{path}: sizes must be finite and positive")
+        return cls(sizes)

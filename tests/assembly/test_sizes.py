@@ -1,0 +1,42 @@
+"""Sizes drawn from the data: observed combinations, jitter, fallback, file errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pair2scene.assembly.sizes import KEEP_PER_CATEGORY, SizeTable
+from pair2scene.curation.dataset import load_pairs
+from pair2scene.errors import UserError
+from synthetic_pairs import write_synthetic_pairs
+
+
+def test_table_from_pairs_round_trips_and_draws_observed_sizes(tmp_path):
+    data = load_pairs(write_synthetic_pairs(tmp_path / "pairs"))
+    table = SizeTable.from_pairs(data)
+    assert set(table.sizes) == {"desk", "mug", "chair", "sofa"}
+    np.testing.assert_allclose(table.sizes["desk"], [[1.2, 0.6, 0.75]])
+    table.save(tmp_path / "sizes.json")
+    back = SizeTable.load(tmp_path / "sizes.json")
+    rng = np.random.default_rng(0)
+    draws = np.stack([back.draw("desk", rng) for _ in range(500)])
+    ratio = np.log(draws / [1.2, 0.6, 0.75])
+    assert abs(ratio.mean()) < 0.01 and 0.04 < ratio.std() < 0.06
+    a = back.draw("sofa", np.random.default_rng(3))
+    assert np.array_equal(a, back.draw("sofa", np.random.default_rng(3)))
+    assert back.draw("bed", rng).shape == (3,)  # unseen: the typical size
+
+
+def test_bundled_table_and_errors(tmp_path):
+    table = SizeTable.load()
+    assert len(table.sizes) > 80
+    assert all(1 <= len(s) <= KEEP_PER_CATEGORY for s in table.sizes.values())
+    bed = table.sizes["bed"]
+    assert (bed[:, 1] > 1.5).all() and (bed[:, 2] < 2.5).all()  # bunk beds reach 2.3 m
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": "pair2scene.sizes", "version": 1, "sizes": {"bed": [[1, -2, 3]]}}')
+    with pytest.raises(UserError, match="finite and positive"):
+        SizeTable.load(bad)
+    bad.write_text('{"format": "other"}')
+    with pytest.raises(UserError, match="format is not"):
+        SizeTable.load(bad)
