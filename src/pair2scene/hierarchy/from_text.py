@@ -107,6 +107,17 @@ def hierarchy_from_spec(
     support_of = {r.dependent: r for r in spec.relations if r.kind == "support"}
     functional_of = {r.dependent: r for r in spec.relations if r.kind == "functional"}
     instances: dict[str, list[Node]] = {}
+    named = frozenset(m.category for m in spec.mentions)
+    rs = st.stats.room_types.get(room_type)
+
+    if rs is not None:  # the room's furniture first: unanchored named objects can use it
+        key = key_furniture(rs)
+        with_key = Counter({k: v for k, v in rs.layouts.items() if key in k}) or rs.layouts
+        template = [c for c in _draw(with_key, rng) if c not in named]
+        if config.max_objects is not None:
+            asked = sum(min(m.count, MAX_COUNT) for m in spec.mentions)
+            template = template[: max(0, config.max_objects - asked)]
+        add_floor_furniture(h, template, st, rng)
 
     for m in _order(spec):
         if m.count > MAX_COUNT:
@@ -130,7 +141,13 @@ def hierarchy_from_spec(
                 nodes.append(h.add(m.category, h.support[a.id], a.id))
         else:
             for _ in range(m.count):
-                nodes.append(h.add(m.category, _default_support(h, st, m.category, rng)))
+                support = _default_support(h, st, m.category, rng)
+                siblings = [n for n in h.children(support) if n.id not in h.functional]
+                func = st.functional_choice(
+                    h.by_id()[support].category if support != FLOOR else FLOOR,
+                    m.category, siblings, rng,
+                )  # fmt: skip
+                nodes.append(h.add(m.category, support, None if func is None else func.id))
         if sup_rel is not None and func_rel is not None:
             anchors = instances[func_rel.anchor]
             for i, node in enumerate(nodes):
@@ -143,10 +160,11 @@ def hierarchy_from_spec(
                     )
         instances[m.ref] = nodes
 
-    named = frozenset(m.category for m in spec.mentions)
-    rs = st.stats.room_types.get(room_type)
     if config.mode == "beyond":
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
+        if rs is not None:
+            extra = extra_furniture(st, rs, target, len(h), rng)
+            add_floor_furniture(h, [c for c in extra if c not in named], st, rng)
     elif rs is not None:
         target = int(_draw(rs.object_counts, rng))
     else:  # a room the statistics do not know: the named objects and their dependents
@@ -155,16 +173,6 @@ def hierarchy_from_spec(
         )
     if config.max_objects is not None:
         target = min(target, config.max_objects)
-    if rs is not None:
-        key = key_furniture(rs)
-        with_key = Counter({k: v for k, v in rs.layouts.items() if key in k}) or rs.layouts
-        template = [c for c in _draw(with_key, rng) if c not in named]
-        if config.mode == "beyond":
-            have = len(template) + len(h)
-            template += [c for c in extra_furniture(st, rs, target, have, rng) if c not in named]
-        if config.max_objects is not None:
-            template = template[: max(0, config.max_objects - len(h))]
-        add_floor_furniture(h, template, st, rng)
     expand(h, st, max(target, len(h)), rng, config.k, skip=named)
     return h.validate()
 
