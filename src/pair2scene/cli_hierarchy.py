@@ -11,12 +11,18 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.errors import UserError
+
 
 def hierarchy_command(
     room: Annotated[
         str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
     ] = None,
     text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
+    file: Annotated[
+        Path | None,
+        typer.Option("--file", help="A hierarchy JSON (this command's --json) to validate."),
+    ] = None,
     mode: Annotated[
         str, typer.Option(help="fit (counts like the training rooms) or beyond (denser).")
     ] = "fit",
@@ -34,15 +40,21 @@ def hierarchy_command(
 ) -> None:
     """Build a scene hierarchy: which objects, what rests on what (support tree), what is
     placed relative to what (functional trees), and the placement order (sequence).
+    With --file, read one (e.g. edited by hand), validate it and print it.
 
     --json prints {"room_type", "objects", "category_counts", "nodes", "support_tree":
     {"root", "edges": [{"parent", "child"}]}, "functional_trees": [{"support_anchor",
     "edges": [{"anchor", "dependent"}]}], "sequence": [{"dependent", "support",
     "functional_anchor"}], "notes"}; every reference is {"id", "category"}.
     """
-    from pair2scene.hierarchy.build import build_hierarchy
+    from pair2scene.hierarchy.build import build_hierarchy, read_hierarchy
 
-    h = build_hierarchy(room, text, mode, max_objects, seed, stats, llm)
+    if file is not None:
+        if room is not None or text is not None:
+            raise UserError("give one of --room, --text or --file")
+        h = read_hierarchy(file)
+    else:
+        h = build_hierarchy(room, text, mode, max_objects, seed, stats, llm)
     if as_json:
         typer.echo(json.dumps(h.to_dict(mode=mode, seed=seed), indent=1))
         return

@@ -199,3 +199,22 @@ def test_cli_room_json_and_errors():
         proc = run_cli("hierarchy", *args)
         assert proc.returncode == 2 and msg in proc.stderr, (args, proc.stderr)
         assert proc.stderr.count("\n") == 1
+
+
+def test_cli_file_validates_a_hierarchy(tmp_path):
+    proc = run_cli("hierarchy", "--room", "kitchen", "--json")
+    doc = json.loads(proc.stdout)
+    good = tmp_path / "h.json"
+    good.write_text(json.dumps(doc))
+    proc = run_cli("hierarchy", "--file", str(good), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["sequence"] == doc["sequence"]
+    first, second = doc["support_tree"]["edges"][0], doc["support_tree"]["edges"][1]
+    first["parent"] = second["child"]
+    second["parent"] = first["child"]  # a support cycle between two pieces of furniture
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    for path, msg in [(bad, "support cycle"), (tmp_path / "none.json", "no such file")]:
+        proc = run_cli("hierarchy", "--file", str(path))
+        assert proc.returncode == 2 and msg in proc.stderr and str(path) in proc.stderr
+        assert proc.stderr.count("\n") == 1

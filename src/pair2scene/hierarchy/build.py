@@ -8,7 +8,7 @@ from pathlib import Path
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.synthesis import SynthesisConfig, load_stats, synthesize
-from pair2scene.hierarchy.tree import Hierarchy
+from pair2scene.hierarchy.tree import Hierarchy, HierarchyError
 
 LLM_CHOICES = ("auto", "never", "always")
 """``auto``: the LLM when an endpoint is configured, else the offline parser."""
@@ -53,3 +53,23 @@ def build_hierarchy(
     from pair2scene.hierarchy.text import parse_text
 
     return hierarchy_from_spec(parse_text(text), stats, config)
+
+
+def read_hierarchy(path: str | Path) -> Hierarchy:
+    """A hierarchy JSON (``pair2scene hierarchy --json``), validated; one-line errors."""
+    import json
+
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UserError(f"{path}: no such file") from None
+    except (OSError, ValueError) as e:
+        raise UserError(f"{path}: not readable JSON ({e})") from None
+    if not isinstance(doc, dict):
+        raise UserError(f"{path}: not a hierarchy (a JSON object is expected)")
+    try:
+        return Hierarchy.from_dict(doc, str(path))
+    except HierarchyError as e:
+        msg = str(e) if str(e).startswith(str(path)) else f"{path}: {e}"
+        raise HierarchyError(msg) from None
