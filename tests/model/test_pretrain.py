@@ -121,3 +121,33 @@ def test_tiny_pretrain_writes_reproducible_weights_and_learns(tmp_path):
     assert "half-diagonal" in doc["normalisation"]
     tokens, centers = load_encoder(tmp_path / "a")(torch.zeros(1, 64, 3) + torch.rand(1, 64, 3))
     assert tokens.shape == (1, TINY.n_groups, TINY.width) and centers.shape == (1, 16, 3)
+
+
+def test_interrupted_pretraining_resumes_to_the_same_weights(tmp_path, monkeypatch):
+    import pair2scene.model.pretrain as pretrain_mod
+
+    cfg = dataclasses.replace(PretrainConfig.tiny(), steps=12, eval_every=4)
+    full = pretrain(cfg, tmp_path / "full", progress=False)
+    real_save = pretrain_mod.save_training_state
+    calls = []
+
+    def save_then_stop(*args, **kwargs):
+        real_save(*args, **kwargs)
+        calls.append(1)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(pretrain_mod, "save_training_state", save_then_stop)
+    with pytest.raises(KeyboardInterrupt):
+        pretrain(cfg, tmp_path / "cut", progress=False)
+    assert json.loads((tmp_path / "cut" / "pretrain_state.json").read_text())["step"] == 4
+    resumed = pretrain(cfg, tmp_path / "cut", progress=False)
+    assert resumed.encoder_path.read_bytes() == full.encoder_path.read_bytes()
+    assert resumed.train_losses == full.train_losses and resumed.val_losses == full.val_losses
+    assert not (tmp_path / "cut" / "pretrain_state.json").exists()
+    other = dataclasses.replace(cfg, steps=8)
+    calls.clear()
+    with pytest.raises(KeyboardInterrupt):
+        pretrain(other, tmp_path / "other", progress=False)
+    with pytest.raises(UserError, match="another pre-training run"):
+        pretrain(cfg, tmp_path / "other", progress=False)

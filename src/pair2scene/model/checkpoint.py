@@ -179,3 +179,68 @@ def load_checkpoint(folder: str | Path | None = None, device: str = "cpu") -> Ch
         meta=doc.get("training") or {},
         path=folder,
     )
+
+
+# -- resumable training state --------------------------------------------------------------
+
+
+def save_training_state(
+    folder: Path, stem: str, model: torch.nn.Module, opt: torch.optim.Optimizer, doc: dict,
+    extra: dict[str, torch.Tensor] | None = None,
+) -> None:  # fmt: skip
+    """``folder/<stem>.safetensors`` (weights, AdamW moments, ``extra`` tensors such as a
+    generator's state) and ``folder/<stem>.json`` (``doc``), weights first, both atomic."""
+    st = _safetensors()
+    tensors = {f"model.{k}": v.detach().cpu().contiguous() for k, v in model.state_dict().items()}
+    names = {id(q): n for n, q in model.named_parameters()}
+    for group in opt.param_groups:
+        for q in group["params"]:
+            for k in ("exp_avg", "exp_avg_sq", "step"):
+                if k in opt.state.get(q, {}):
+                    tensors[f"opt.{names[id(q)]}.{k}"] = torch.as_tensor(opt.state[q][k]).cpu()
+    for k, v in (extra or {}).items():
+        tensors[f"extra.{k}"] = v.detach().cpu().contiguous()
+    atomic_write_bytes(folder / f"{stem}.safetensors", st.save(tensors))
+    atomic_write_text(folder / f"{stem}.json", json.dumps(doc, indent=1) + "\n")
+
+
+def read_training_state(folder: Path, stem: str, fmt: str) -> dict | None:
+    """The JSON half of a saved state (None when there is none); a damaged one is a
+    UserError telling to delete the folder."""
+    path = folder / f"{stem}.json"
+    if not path.exists():
+        return None
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(doc, dict) or doc.get("format") != fmt:
+            raise ValueError(f"not a {fmt} file")
+    except (OSError, ValueError) as e:
+        msg = f"{path}: unreadable training state ({e}); delete {folder} to restart"
+        raise UserError(msg) from None
+    return doc
+
+
+def load_training_state(
+    folder: Path, stem: str, model: torch.nn.Module, opt: torch.optim.Optimizer
+) -> dict[str, torch.Tensor]:
+    """Load weights and AdamW moments saved by :func:`save_training_state` into ``model``
+    and ``opt``; returns the ``extra`` tensors. Damaged or unfitting: one-line UserError."""
+    st = _safetensors()
+    path = folder / f"{stem}.safetensors"
+    try:
+        tensors = st.load_file(str(path))
+    except Exception as e:  # safetensors raises its own types for damaged files
+        msg = f"{path}: unreadable training state ({e}); delete {folder} to restart"
+        raise UserError(msg) from None
+    try:
+        model.load_state_dict({k[6:]: v for k, v in tensors.items() if k.startswith("model.")})
+        by_name = dict(model.named_parameters())
+        for key, value in tensors.items():
+            if key.startswith("opt."):
+                name, what = key[4:].rsplit(".", 1)
+                opt.state[by_name[name]][what] = value.float() if what == "step" else value.clone()
+    except (RuntimeError, KeyError) as e:
+        first = str(e).strip().splitlines()[0]
+        msg = f"{path}: the saved state does not fit this model ({first}); delete {folder}"
+        raise UserError(msg + " to restart") from None
+    return {k[6:]: v for k, v in tensors.items() if k.startswith("extra.")}

@@ -9,6 +9,10 @@ AdamW, and writes to ``out_dir``:
 - ``pointmae.json``: the encoder config, the input normalisation, the pre-training
   config and its losses. :func:`load_encoder` reads both back.
 
+At every validation step the run's state (weights, AdamW moments, the generator) is saved
+as ``pretrain_state.safetensors`` + ``.json``; the same call on the same folder resumes
+from it and ends with the same weights as an uninterrupted run.
+
 Every cloud is normalised by its box, as the layout model must do
 (:func:`pair2scene.model.pointmae.normalise_points`).
 """
@@ -32,6 +36,11 @@ from pair2scene.categories import CATEGORIES, is_structure
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_bytes, atomic_write_text
 from pair2scene.io.jsondoc import read_json_document
+from pair2scene.model.checkpoint import (
+    load_training_state,
+    read_training_state,
+    save_training_state,
+)
 from pair2scene.model.pointmae import PointMAE, PointMAEConfig, PointMAEEncoder, normalise_points
 from pair2scene.progress import track
 
@@ -44,6 +53,8 @@ NORMALISATION = (
     "half-diagonal |size|/2 (the box fits the unit sphere); the size is a separate input"
 )
 """Written into ``pointmae.json`` so that a consumer can check what the weights expect."""
+STATE_STEM = "pretrain_state"
+STATE_FORMAT = "pair2scene.pretrain-state"
 FINAL_LOSS_STEPS = 50
 """The reported final training loss is the mean over this many last steps (one batch's
 loss is noisy: the masks and the assets vary)."""
@@ -246,14 +257,38 @@ def pretrain(config: PretrainConfig, out_dir: str | Path, progress: bool = True)
     train_losses: list[float] = []
     val_losses: list[tuple[int, float]] = []
     val_seed = config.seed + 1
+    run = _jsonable(dataclasses.asdict(config))
+    first, prior_seconds = 0, 0.0
+    state = read_training_state(out_dir, STATE_STEM, STATE_FORMAT)
+    if state is not None:
+        if state.get("config") != json.loads(json.dumps(run)):
+            raise UserError(
+                f"{out_dir} holds another pre-training run (different config): choose another "
+                "--out or delete it"
+            )
+        extra = load_training_state(out_dir, STATE_STEM, model, opt)
+        g.set_state(extra["generator"])
+        first, prior_seconds = int(state["step"]), float(state.get("seconds", 0.0))
+        train_losses = [float(v) for v in state["train_losses"]]
+        val_losses = [(int(a), float(b)) for a, b in state["val_losses"]]
 
     def validate(step: int) -> None:
         if len(val_pts):
             val_losses.append((step, evaluate(model, val_pts, config.batch_size, val_seed)))
 
-    validate(0)
+    def save_state(step: int) -> None:
+        doc = {
+            "format": STATE_FORMAT, "config": run, "step": step, "train_losses": train_losses,
+            "val_losses": [list(v) for v in val_losses],
+            "seconds": prior_seconds + time.perf_counter() - start,
+        }  # fmt: skip
+        save_training_state(out_dir, STATE_STEM, model, opt, doc, {"generator": g.get_state()})
+
+    if first == 0:
+        validate(0)
     model.train()
-    for step in track(range(config.steps), "pretrain", enabled=progress):
+    steps = range(first, config.steps)
+    for step in track(steps, "pretrain", enabled=progress, total=len(steps)):
         for group in opt.param_groups:
             group["lr"] = learning_rate(step, config)
         pick = torch.randint(len(train_pts), (config.batch_size,), generator=g)
@@ -268,8 +303,10 @@ def pretrain(config: PretrainConfig, out_dir: str | Path, progress: bool = True)
         done = step + 1
         if done % config.eval_every == 0 or done == config.steps:
             validate(done)
+            if done < config.steps:
+                save_state(done)
 
-    seconds = time.perf_counter() - start
+    seconds = prior_seconds + time.perf_counter() - start
     encoder_path, config_path = save_encoder(
         model.encoder,
         out_dir,
@@ -286,6 +323,8 @@ def pretrain(config: PretrainConfig, out_dir: str | Path, progress: bool = True)
             "torch": torch.__version__,
         },
     )
+    for suffix in (".safetensors", ".json"):  # finished: the encoder files are the result
+        (out_dir / f"{STATE_STEM}{suffix}").unlink(missing_ok=True)
     return PretrainResult(
         encoder_path, config_path, train_losses, val_losses, len(train_pts), len(val_pts), seconds
     )

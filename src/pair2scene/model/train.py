@@ -32,7 +32,7 @@ import torch
 
 from pair2scene.curation.dataset import PairsDataset, load_pairs
 from pair2scene.errors import UserError
-from pair2scene.io.atomic import atomic_write_bytes, atomic_write_text
+from pair2scene.io.atomic import atomic_write_bytes
 from pair2scene.model import checkpoint as ckpt
 from pair2scene.model.api import CloudInputs, stored_log_prob
 from pair2scene.model.features import (
@@ -44,12 +44,10 @@ from pair2scene.model.features import (
 )
 from pair2scene.model.layout import LayoutPredictor, LayoutVariant
 from pair2scene.model.pointmae import PointMAEEncoder
-from pair2scene.model.presets import PRESETS, TrainPreset, preset
+from pair2scene.model.presets import TrainPreset, preset
 from pair2scene.model.pretrain import load_encoder
 from pair2scene.progress import track
 
-STATE_FILE = "train_state.json"
-STATE_WEIGHTS = "train_state.safetensors"
 CACHE_DIR = "cache"
 
 
@@ -367,35 +365,18 @@ def train(
 
 # -- resumable state ---------------------------------------------------------------------
 
+STATE_STEM = "train_state"
+STATE_FORMAT = "pair2scene.train-state"
+
 
 def _read_state(out: Path) -> dict | None:
-    path = out / STATE_FILE
-    if not path.exists():
-        return None
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-        if not isinstance(doc, dict) or doc.get("format") != "pair2scene.train-state":
-            raise ValueError("not a training state")
-        return doc
-    except (OSError, ValueError) as e:
-        msg = f"{path}: unreadable training state ({e}); delete {out} to restart"
-        raise UserError(msg) from None
+    return ckpt.read_training_state(out, STATE_STEM, STATE_FORMAT)
 
 
 def _save_state(out, model, opt, run_key, epoch, step, history, best, wall=0.0) -> None:
     """Weights and AdamW moments as safetensors, the rest as JSON (weights first)."""
-    st = ckpt._safetensors()
-    tensors = {f"model.{k}": v.detach().cpu().contiguous() for k, v in model.state_dict().items()}
-    names = {id(q): n for n, q in model.named_parameters()}
-    for group in opt.param_groups:
-        for q in group["params"]:
-            s = opt.state.get(q, {})
-            for k in ("exp_avg", "exp_avg_sq", "step"):
-                if k in s:
-                    tensors[f"opt.{names[id(q)]}.{k}"] = torch.as_tensor(s[k]).detach().cpu()
-    atomic_write_bytes(out / STATE_WEIGHTS, st.save(tensors))
     doc = {
-        "format": "pair2scene.train-state",
+        "format": STATE_FORMAT,
         "run": run_key,
         "epoch": epoch,
         "step": step,
@@ -404,30 +385,8 @@ def _save_state(out, model, opt, run_key, epoch, step, history, best, wall=0.0) 
         "best_val_nll": best[1] if math.isfinite(best[1]) else None,
         "wall_seconds": wall,
     }
-    atomic_write_text(out / STATE_FILE, json.dumps(doc, indent=1) + "\n")
+    ckpt.save_training_state(out, STATE_STEM, model, opt, doc)
 
 
 def _load_state(out: Path, model: LayoutPredictor, opt: torch.optim.Optimizer) -> None:
-    st = ckpt._safetensors()
-    path = out / STATE_WEIGHTS
-    try:
-        tensors = st.load_file(str(path))
-    except Exception as e:
-        msg = f"{path}: unreadable training state ({e}); delete {out} to restart"
-        raise UserError(msg) from None
-    try:
-        model.load_state_dict({k[6:]: v for k, v in tensors.items() if k.startswith("model.")})
-        by_name = dict(model.named_parameters())
-        for key, value in tensors.items():
-            if not key.startswith("opt."):
-                continue
-            name, what = key[4:].rsplit(".", 1)
-            opt.state[by_name[name]][what] = value.clone() if what != "step" else value.float()
-    except (RuntimeError, KeyError) as e:
-        first = str(e).strip().splitlines()[0]
-        msg = f"{path}: the saved state does not fit this model ({first}); delete {out} to restart"
-        raise UserError(msg) from None
-
-
-def preset_names() -> list[str]:
-    return list(PRESETS)
+    ckpt.load_training_state(out, STATE_STEM, model, opt)
