@@ -1,0 +1,102 @@
+"""Rooms to generate into: sizes per room type from the training rooms, a door, a floor.
+
+:class:`RoomTable` keeps the bounds (width, depth, height) of every training room per
+type, from the support boxes of a 3D-Pairs folder's floor tuples (3D-Pairs keeps a room's
+bounds, not its polygon, so generated rooms are rectangles). :func:`make_room` draws one
+and puts a door on one of its walls. The table of the AI2-THOR + ProcTHOR-1k train rooms
+ships with the package (``rooms.json``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pair2scene.errors import UserError
+from pair2scene.io.atomic import atomic_write_text
+from pair2scene.io.jsondoc import read_json_document
+from pair2scene.scene.model import FLOOR, Opening, Room
+
+ROOMS_FORMAT = "pair2scene.rooms"
+ROOMS_VERSION = 1
+DEFAULT_ROOMS = Path(__file__).parent / "rooms.json"
+DOOR_WIDTH_M = 0.9
+DOOR_HEIGHT_M = 2.1
+DOOR_CORNER_GAP_M = 0.2
+"""A door's edge stays this far from the room's corners (a frame needs the wall)."""
+FALLBACK_SIZE = (4.0, 4.0, 2.7)
+"""A room type nobody trained on, when the table is empty: a 4 m square room."""
+
+
+@dataclass
+class RoomTable:
+    """Observed room bounds per room type."""
+
+    sizes: dict[str, np.ndarray] = field(default_factory=dict)
+    """room type -> (R, 3) (width, depth, height) in metres."""
+
+    @classmethod
+    def from_pairs(cls, data, split: str | None = "train") -> RoomTable:
+        rows = data.support.id == FLOOR
+        if split is not None:
+            rows &= data.split == split
+        seen: dict[str, dict[str, np.ndarray]] = {}
+        for i in np.flatnonzero(rows):
+            rtype, scene = str(data.room_type[i]), str(data.scene_id[i])
+            seen.setdefault(rtype, {}).setdefault(
+                scene, np.round(data.support.box[i, 3:6].astype(float), 2)
+            )
+        return cls({t: np.stack([s[k] for k in sorted(s)]) for t, s in sorted(seen.items())})
+
+    def draw(self, room_type: str, rng: np.random.Generator) -> np.ndarray:
+        """(3,) bounds of a training room of ``room_type`` (of any type when unseen)."""
+        options = self.sizes.get(room_type)
+        if options is None or not len(options):
+            every = [s for s in self.sizes.values() if len(s)]
+            if not every:
+                return np.asarray(FALLBACK_SIZE, dtype=float)
+            options = np.concatenate(every)
+        return options[int(rng.integers(len(options)))].astype(float)
+
+    def save(self, path: str | Path) -> None:
+        doc = {
+            "format": ROOMS_FORMAT,
+            "version": ROOMS_VERSION,
+            "sizes": {t: s.tolist() for t, s in self.sizes.items()},
+        }
+        atomic_write_text(Path(path), json.dumps(doc, separators=(",", ":")) + "\n")
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> RoomTable:
+        path = DEFAULT_ROOMS if path is None else Path(path)
+        doc = read_json_document(path, ROOMS_FORMAT, ROOMS_VERSION)
+        try:
+            sizes = {t: np.asarray(v, dtype=float).reshape(-1, 3) for t, v in doc["sizes"].items()}
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            raise UserError(f"{path}: malformed room table ({e})") from None
+        if any((s <= 0).any() or not np.isfinite(s).all() for s in sizes.values()):
+            raise UserError(f"{path}: room sizes must be finite and positive")
+        return cls(sizes)
+
+
+def make_room(room_type: str, rng: np.random.Generator, table: RoomTable | None = None) -> Room:
+    """A rectangular room of a training room's size with one door on a random wall; the
+    floor spans [0, width] x [0, depth]."""
+    table = RoomTable.load() if table is None else table
+    w, d, h = table.draw(room_type, rng)
+    polygon = np.array([[0.0, 0.0], [w, 0.0], [w, d], [0.0, d]])
+    wall = int(rng.integers(4))
+    a, b = polygon[wall], polygon[(wall + 1) % 4]
+    length = float(np.linalg.norm(b - a))
+    doors: tuple[Opening, ...] = ()
+    if length >= DOOR_WIDTH_M + 2 * DOOR_CORNER_GAP_M:
+        room_left = length - DOOR_WIDTH_M - 2 * DOOR_CORNER_GAP_M
+        start = DOOR_CORNER_GAP_M + float(rng.uniform(0, room_left))
+        u = (b - a) / length
+        p0, p1 = a + u * start, a + u * (start + DOOR_WIDTH_M)
+        ends = (float(p0[0]), float(p0[1])), (float(p1[0]), float(p1[1]))
+        doors = (Opening("door", *ends, 0.0, min(DOOR_HEIGHT_M, float(h)), "door_0"),)
+    return Room(room_type, polygon, float(h), doors)
