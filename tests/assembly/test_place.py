@@ -1,0 +1,103 @@
+"""Placement with the bundled model: collision-free, resting, bounded, seeded."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from pair2scene.assembly.collision import MeshWorld, Shape  # noqa: E402
+from pair2scene.assembly.place import AssemblyConfig, Placer, door_boxes, upright  # noqa: E402
+from pair2scene.assembly.rest import rest_on_surfaces  # noqa: E402
+from pair2scene.assembly.rooms import make_room  # noqa: E402
+from pair2scene.hierarchy.tree import Hierarchy  # noqa: E402
+from pair2scene.model import from_pretrained  # noqa: E402
+from pair2scene.scene.geometry import OrientedBox, rot_x  # noqa: E402
+from pair2scene.scene.model import FLOOR  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def placer():
+    return Placer(from_pretrained())
+
+
+def office() -> Hierarchy:
+    h = Hierarchy("bedroom")
+    bed = h.add("bed", FLOOR)
+    desk = h.add("desk", FLOOR)
+    h.add("chair", FLOOR, desk.id)
+    h.add("side_table", FLOOR, bed.id)
+    h.add("laptop", desk.id)
+    h.add("mug", desk.id)
+    h.add("book", desk.id)
+    h.add("pillow", bed.id)
+    return h.validate()
+
+
+def test_places_everything_without_collisions_and_at_rest(placer):
+    room = make_room("bedroom", np.random.default_rng(0))
+    result = placer.place(office(), room, seed=0)
+    scene, stats = result.scene, result.stats
+    assert stats.requested == 8
+    assert stats.placed + len(stats.dropped) == 8 and stats.placed >= 6
+    by_id = {o.id: o for o in scene.objects}
+    world = MeshWorld()
+    assets = {}
+    for o in scene.objects:
+        asset = result.assets[o.id]
+        np.testing.assert_allclose(asset.size, o.box.size)
+        shape = Shape(asset)
+        shape.set_pose(o.box.rotation, o.box.center)
+        world.add(o.id, shape)
+        assets[o.id] = asset
+    for a, b in itertools.combinations(by_id, 2):
+        assert world.penetration(world.shapes[a], world.shapes[b]) <= 0.01, (a, b)
+    for o in scene.objects:
+        assert abs(o.box.rotation[2, 2] - 1) < 1e-9  # upright
+        if o.support == FLOOR:
+            assert o.box.bottom == pytest.approx(0.0, abs=1e-9)
+            assert room.contains_xy(o.box.corners()[:, :2]).all()
+        else:
+            sup = by_id[o.support]
+            z = rest_on_surfaces(assets[sup.id], sup.box, o.box)
+            assert z is not None and o.box.bottom == pytest.approx(z, abs=1e-6)
+    assert 0 < stats.acceptance_rate <= 1 and stats.resamples_per_object >= 0
+    assert set(stats.to_dict()["seconds"]) == {"model", "assets", "collision", "total"}
+
+
+def test_same_seed_same_scene(placer):
+    room = make_room("bedroom", np.random.default_rng(1))
+    a = placer.place(office(), room, seed=5).scene
+    b = placer.place(office(), room, seed=5).scene
+    assert [(o.id, o.box.to_vector().tolist()) for o in a.objects] == [
+        (o.id, o.box.to_vector().tolist()) for o in b.objects
+    ]
+
+
+def test_impossible_objects_are_dropped_with_their_dependents(placer):
+    tiny = make_room("bedroom", np.random.default_rng(0))
+    h = Hierarchy("bedroom")
+    for _ in range(3):
+        bed = h.add("bed", FLOOR)
+        h.add("pillow", bed.id)
+    h.validate()
+    from dataclasses import replace
+
+    cramped = replace(tiny, floor_polygon=np.array([[0, 0], [2.2, 0], [2.2, 2.6], [0, 2.6]], float))
+    fast = Placer(placer.model, config=AssemblyConfig(candidates=8, batches=2))
+    stats = fast.place(h, cramped, seed=0).stats
+    assert stats.placed < 6 and len(stats.dropped) == 6 - stats.placed
+    reasons = {d["reason"] for d in stats.dropped}
+    assert any("no valid placement" in r for r in reasons)
+    assert any("was dropped" in r for r in reasons)
+
+
+def test_upright_and_door_boxes():
+    tilted = OrientedBox([0, 0, 1], [1, 1, 1], rot_x(0.4))
+    assert np.allclose(upright(tilted).rotation, np.eye(3))
+    room = make_room("bedroom", np.random.default_rng(0))
+    (box,) = door_boxes(room, 0.8, room.height)
+    assert box.size[1] == pytest.approx(1.6)
