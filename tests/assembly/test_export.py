@@ -1,0 +1,66 @@
+"""Scene folders: scene.json (the contract), scene.glb (node per object id), bev.png."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from pair2scene.assembly.export import room_meshes, semantic_color, write_scene_folder
+from pair2scene.assets.registry import generate
+from pair2scene.io.scene_json import read_scene
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
+
+
+def small_scene():
+    room = Room("bedroom", np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float), 2.6,
+                (Opening("door", (1.0, 0.0), (1.9, 0.0), 0.0, 2.1, "door_0"),))  # fmt: skip
+    bed = OrientedBox.from_yaw([2.0, 1.9, 0.3], [1.6, 2.0, 0.6])
+    lamp = OrientedBox.from_yaw([0.5, 2.5, 0.8], [0.2, 0.2, 0.4])
+    table = OrientedBox.from_yaw([0.5, 2.5, 0.3], [0.5, 0.5, 0.6])
+    objects = [
+        SceneObject("bed_0", "bed", bed, None, FLOOR),
+        SceneObject("side_table_0", "side_table", table, None, FLOOR, "bed_0"),
+        SceneObject("table_lamp_0", "table_lamp", lamp, None, "side_table_0"),
+    ]
+    assets = {o.id: generate(o.category, o.box.size, 0) for o in objects}
+    return Scene("s0", room, objects, source="pair2scene", stats={"objects_placed": 3}), assets
+
+
+def test_folder_has_all_three_and_scene_json_reads_back(tmp_path):
+    scene, assets = small_scene()
+    folder = write_scene_folder(tmp_path / "s0", scene, assets)
+    assert sorted(p.name for p in folder.iterdir()) == ["bev.png", "scene.glb", "scene.json"]
+    back = read_scene(folder / "scene.json")
+    assert [o.id for o in back.objects] == ["bed_0", "side_table_0", "table_lamp_0"]
+    assert (
+        back.objects[2].support == "side_table_0" and back.objects[1].functional_anchor == "bed_0"
+    )
+    img = Image.open(folder / "bev.png")
+    assert img.size[0] > img.size[1] >= 512
+    # overwriting replaces the folder as a whole and leaves no temporary folders behind
+    write_scene_folder(tmp_path / "s0", scene, assets)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s0"]
+
+
+def test_glb_nodes_are_object_ids_with_floor_and_walls(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    scene, assets = small_scene()
+    folder = write_scene_folder(tmp_path / "s0", scene, assets)
+    loaded = trimesh.load(folder / "scene.glb")
+    nodes = set(loaded.graph.nodes_geometry)
+    assert {"bed_0", "side_table_0", "table_lamp_0", "floor"} <= nodes
+    assert any(n.startswith("wall_") for n in nodes)
+    lamp = loaded.geometry[loaded.graph["table_lamp_0"][1]]
+    np.testing.assert_allclose(lamp.bounds.mean(0)[:2], [0.5, 2.5], atol=0.02)
+
+
+def test_walls_leave_the_door_open_and_colours_are_stable():
+    scene, _ = small_scene()
+    walls = dict(room_meshes(scene.room))
+    bottom = [m for n, m in walls.items() if n.startswith("wall_0_")]
+    assert len(bottom) == 3  # left of the door, the lintel, right of the door
+    lintel = min(bottom, key=lambda m: m.bounds[1, 0] - m.bounds[0, 0])
+    assert lintel.bounds[0, 2] == pytest.approx(2.1)
+    assert semantic_color("bed") == semantic_color("bed") != semantic_color("mug")
