@@ -14,6 +14,7 @@ import typer
 
 from pair2scene.cli_assets import assets_app
 from pair2scene.cli_curate import curate
+from pair2scene.cli_generate import generate_command
 from pair2scene.cli_hierarchy import hierarchy_command
 from pair2scene.cli_model import pretrain_command, score_command, train_command
 from pair2scene.errors import UserError
@@ -34,6 +35,7 @@ app.command("pretrain")(pretrain_command)
 app.command("train")(train_command)
 app.command("score")(score_command)
 app.command("hierarchy")(hierarchy_command)
+app.command("generate")(generate_command)
 
 
 @data_app.command("fetch")

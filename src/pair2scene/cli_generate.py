@@ -1,0 +1,43 @@
+"""``pair2scene generate``: the main job: calls :func:`pair2scene.generate.generate_scenes`."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def generate_command(
+    out: Annotated[Path, typer.Option("--out", help="Output folder (resumed if present).")],
+    room: Annotated[
+        str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
+    ] = None,
+    text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
+    num: Annotated[int, typer.Option(help="Scenes to generate (seeds seed .. seed+num-1).")] = 1,
+    seed: Annotated[int, typer.Option(help="First seed; same seed, same scene.")] = 0,
+    mode: Annotated[str, typer.Option(help="fit (training-like counts) or beyond.")] = "fit",
+    max_objects: Annotated[
+        int | None, typer.Option(help="beyond: objects to reach (default 80); fit: a cap.")
+    ] = None,
+    model: Annotated[str, typer.Option(help="default (bundled) or a checkpoint folder.")] = (
+        "default"
+    ),
+    llm: Annotated[str, typer.Option(help="--text: auto, never (offline) or always.")] = "auto",
+    as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
+) -> None:
+    """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png and OUT/summary.json."""
+    from pair2scene.generate import generate_scenes
+
+    summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
+                              progress=not as_json)  # fmt: skip
+    if as_json:
+        typer.echo(json.dumps(summary, indent=1))
+        return
+    t = summary["totals"]
+    typer.echo(
+        f"{t['scenes']} scenes in {out}: {t['objects_per_scene']:.1f} objects each, acceptance "
+        f"{t['acceptance_rate']:.2f}, {t['resamples_per_object']:.2f} resamples per object, "
+        f"{t['seconds_per_scene']:.2f} s per scene"
+    )
