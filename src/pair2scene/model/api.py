@@ -133,6 +133,7 @@ class LayoutModel:
         self.predictor = checkpoint.predictor.eval()
         self._tokens: OrderedDict[bytes, tuple[torch.Tensor, torch.Tensor]] = OrderedDict()
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
+        self._asset_clouds: OrderedDict[int, tuple[Asset, np.ndarray]] = OrderedDict()
 
     @classmethod
     def from_pretrained(cls, path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
@@ -205,8 +206,21 @@ class LayoutModel:
         if anchor.is_floor:
             return room_cloud(anchor.box.size, self.n_points)
         if anchor.asset is not None:
-            return asset_cloud(anchor.asset, self.n_points)
+            return self._cloud_of(anchor.asset)
         return _procedural_cloud(anchor.category, anchor.box.size, self.n_points)
+
+    def _cloud_of(self, asset: Asset) -> np.ndarray:
+        """An asset's cloud, kept while the asset is (placement asks for a support's cloud
+        once per dependent)."""
+        hit = self._asset_clouds.get(id(asset))
+        if hit is not None and hit[0] is asset:
+            self._asset_clouds.move_to_end(id(asset))
+            return hit[1]
+        cloud = asset_cloud(asset, self.n_points)
+        self._asset_clouds[id(asset)] = (asset, cloud)
+        if len(self._asset_clouds) > TOKEN_CACHE_ENTRIES:
+            self._asset_clouds.popitem(last=False)
+        return cloud
 
     def _query_batch(self, queries: Sequence[PlacementQuery]) -> tuple[LayoutBatch, np.ndarray]:
         """A batch for ``queries`` and each query's model-frame factor (B, 3)."""
@@ -251,7 +265,7 @@ class LayoutModel:
                 if q.cloud is not None:
                     row_clouds[0] = q.cloud
                 elif q.asset is not None:
-                    row_clouds[0] = asset_cloud(q.asset, self.n_points)
+                    row_clouds[0] = self._cloud_of(q.asset)
                 else:
                     row_clouds[0] = _procedural_cloud(q.category, q.size, self.n_points)
             clouds.append(row_clouds)
