@@ -101,3 +101,14 @@ def test_upright_and_door_boxes():
     room = make_room("bedroom", np.random.default_rng(0))
     (box,) = door_boxes(room, 0.8, room.height)
     assert box.size[1] == pytest.approx(1.6)
+
+
+def test_yaw_snaps_to_the_support_axes_only_when_close():
+    from pair2scene.scene.geometry import yaw_to_matrix
+
+    near = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(97)))
+    assert upright(near, 0.0, 10.0).yaw == pytest.approx(np.pi / 2)
+    far = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(120)))
+    assert upright(far, 0.0, 10.0).yaw == pytest.approx(np.radians(120))
+    turned = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(33)))
+    assert upright(turned, np.radians(30), 10.0).yaw == pytest.approx(np.radians(30))

@@ -50,6 +50,10 @@ class AssemblyConfig:
     """Depth in front of (and behind) a door that floor objects must leave free."""
     ceiling_margin_m: float = 0.05
     """Objects must end this far below the ceiling."""
+    snap_yaw_deg: float = 10.0
+    """A drawn yaw within this of the support's axes (every 90 degrees) is snapped onto
+    them: three quarters of the training objects are aligned with their support (beds with
+    walls, books with shelves), while the logistic samples spread around those modes."""
     tolerances: Tolerances = TOLERANCES
 
 
@@ -102,10 +106,17 @@ class _Placed:
     asset: Asset
 
 
-def upright(box: OrientedBox) -> OrientedBox:
-    """The box turned upright about its centre, its yaw kept (from the x axis's heading)."""
+def upright(box: OrientedBox, reference_yaw: float = 0.0, snap_deg: float = 0.0) -> OrientedBox:
+    """The box turned upright about its centre, its yaw kept (from the x axis's heading);
+    a yaw within ``snap_deg`` of ``reference_yaw`` + k * 90 degrees is snapped onto it."""
     x = box.rotation[:, 0]
     yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
+    if snap_deg > 0:
+        quarter = np.pi / 2
+        k = np.round((yaw - reference_yaw) / quarter)
+        snapped = reference_yaw + k * quarter
+        if abs(yaw - snapped) <= np.radians(snap_deg):
+            yaw = float(snapped)
     return OrientedBox(box.center, box.size, yaw_to_matrix(yaw))
 
 
@@ -192,10 +203,11 @@ class Placer:
             timer["model"] += time.perf_counter() - t0
 
             t0 = time.perf_counter()
+            ref_yaw = 0.0 if item.support == FLOOR else placed[item.support].box.yaw
             shape = Shape(asset)
             accepted = None
             for index, vec in enumerate(boxes):
-                drawn = upright(OrientedBox.from_vector(vec))
+                drawn = upright(OrientedBox.from_vector(vec), ref_yaw, cfg.snap_yaw_deg)
                 box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's own
                 box = self._rest(box, item.support, placed, room)
                 if box is None or box.top > room.height - cfg.ceiling_margin_m:
