@@ -26,6 +26,7 @@ from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import load_stats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.io.atomic import atomic_write_text
+from pair2scene.io.jsondoc import read_json_document
 from pair2scene.scene.model import Scene
 
 SUMMARY_FORMAT = "pair2scene.summary"
@@ -142,16 +143,10 @@ def generate_scenes(
 
 def _read_summary(out: Path, request: dict) -> dict:
     path = out / "summary.json"
-    fresh = {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "request": request,
-             "scenes": []}  # fmt: skip
     if not path.exists():
-        return fresh
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as e:
-        raise UserError(f"{path}: unreadable summary ({e}); delete it to start over") from None
-    if not isinstance(doc, dict) or doc.get("format") != SUMMARY_FORMAT:
-        raise UserError(f"{path}: not a pair2scene summary; choose another --out")
+        return {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "request": request,
+                "scenes": []}  # fmt: skip
+    doc = read_json_document(path, SUMMARY_FORMAT, SUMMARY_VERSION)
     if doc.get("request") != request:
         raise UserError(f"{out} holds scenes of another request; choose another --out")
     return doc

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pair2scene.errors import UserError
+from pair2scene.assembly.sizes import read_size_arrays
 from pair2scene.io.atomic import atomic_write_text
-from pair2scene.io.jsondoc import read_json_document
 from pair2scene.scene.model import FLOOR, Opening, Room
 
 ROOMS_FORMAT = "pair2scene.rooms"
@@ -72,14 +71,7 @@ class RoomTable:
     @classmethod
     def load(cls, path: str | Path | None = None) -> RoomTable:
         path = DEFAULT_ROOMS if path is None else Path(path)
-        doc = read_json_document(path, ROOMS_FORMAT, ROOMS_VERSION)
-        try:
-            sizes = {t: np.asarray(v, dtype=float).reshape(-1, 3) for t, v in doc["sizes"].items()}
-        except (KeyError, TypeError, ValueError, AttributeError) as e:
-            raise UserError(f"{path}: malformed room table ({e})") from None
-        if any((s <= 0).any() or not np.isfinite(s).all() for s in sizes.values()):
-            raise UserError(f"{path}: room sizes must be finite and positive")
-        return cls(sizes)
+        return cls(read_size_arrays(path, ROOMS_FORMAT, ROOMS_VERSION, "room table"))
 
 
 def make_room(room_type: str, rng: np.random.Generator, table: RoomTable | None = None) -> Room:

@@ -81,11 +81,16 @@ class SizeTable:
     def load(cls, path: str | Path | None = None) -> SizeTable:
         """A table written by :meth:`save` (None: the bundled one)."""
         path = DEFAULT_SIZES if path is None else Path(path)
-        doc = read_json_document(path, SIZES_FORMAT, SIZES_VERSION)
-        try:
-            sizes = {c: np.asarray(v, dtype=float).reshape(-1, 3) for c, v in doc["sizes"].items()}
-        except (KeyError, TypeError, ValueError, AttributeError) as e:
-            raise UserError(f"{path}: malformed size table ({e})") from None
-        if any((s <= 0).any() or not np.isfinite(s).all() for s in sizes.values()):
-            raise UserError(f"{path}: sizes must be finite and positive")
-        return cls(sizes)
+        return cls(read_size_arrays(path, SIZES_FORMAT, SIZES_VERSION, "size table"))
+
+
+def read_size_arrays(path: Path, fmt: str, version: int, what: str) -> dict[str, np.ndarray]:
+    """The ``sizes`` field of a JSON table: name -> (K, 3) finite positive sizes (m)."""
+    doc = read_json_document(path, fmt, version)
+    try:
+        sizes = {k: np.asarray(v, dtype=float).reshape(-1, 3) for k, v in doc["sizes"].items()}
+    except (KeyError, TypeError, ValueError, AttributeError) as e:
+        raise UserError(f"{path}: malformed {what} ({e})") from None
+    if any((s <= 0).any() or not np.isfinite(s).all() for s in sizes.values()):
+        raise UserError(f"{path}: sizes in the {what} must be finite and positive")
+    return sizes

@@ -8,7 +8,12 @@ from pathlib import Path
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.synthesis import SynthesisConfig, load_stats, synthesize
-from pair2scene.hierarchy.tree import Hierarchy, HierarchyError
+from pair2scene.hierarchy.tree import (
+    HIERARCHY_FORMAT,
+    HIERARCHY_VERSION,
+    Hierarchy,
+    HierarchyError,
+)
 
 LLM_CHOICES = ("auto", "never", "always")
 """``auto``: the LLM when an endpoint is configured, else the offline parser."""
@@ -57,17 +62,9 @@ def build_hierarchy(
 
 def read_hierarchy(path: str | Path) -> Hierarchy:
     """A hierarchy JSON (``pair2scene hierarchy --json``), validated; one-line errors."""
-    import json
+    from pair2scene.io.jsondoc import read_json_document
 
-    path = Path(path)
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise UserError(f"{path}: no such file") from None
-    except (OSError, ValueError) as e:
-        raise UserError(f"{path}: not readable JSON ({e})") from None
-    if not isinstance(doc, dict):
-        raise UserError(f"{path}: not a hierarchy (a JSON object is expected)")
+    doc = read_json_document(path, HIERARCHY_FORMAT, HIERARCHY_VERSION, "no such file")
     try:
         return Hierarchy.from_dict(doc, str(path))
     except HierarchyError as e:
