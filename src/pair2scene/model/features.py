@@ -48,7 +48,6 @@ from pair2scene.categories import UNKNOWN
 from pair2scene.curation.dataset import CATEGORY_VOCAB, PairsDataset
 from pair2scene.curation.physics import asset_seed
 from pair2scene.model.layout import (
-    DEPENDENT,
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
     SUPPORT,
@@ -381,7 +380,6 @@ def dataset_features(
             np.maximum(data.canonical[:, 3:6].astype(np.float64), MIN_TARGET_SIZE)
         ).sum(1),
     )
-    assert DEPENDENT == 0
     return Features(arrays, list(specs))
 
 

@@ -262,7 +262,6 @@ def train(
             del clouds
 
     # -- model, optimiser, schedule ------------------------------------------------------
-    torch.manual_seed(config.seed)  # only dropout draws from it (0 in every preset)
     model = LayoutPredictor(p.layout, encoder, torch.Generator().manual_seed(config.seed))
     model = model.to(config.device)
     opt = torch.optim.AdamW(_param_groups(model, p), lr=p.lr, betas=(0.9, 0.95))
