@@ -205,6 +205,8 @@ class Placer:
             t0 = time.perf_counter()
             ref_yaw = 0.0 if item.support == FLOOR else placed[item.support].box.yaw
             shape = Shape(asset)
+            ids = list(placed)  # fixed while this object's candidates are tried
+            others = _stack([placed[i].box for i in ids])
             accepted = None
             for index, vec in enumerate(boxes):
                 drawn = upright(OrientedBox.from_vector(vec), ref_yaw, cfg.snap_yaw_deg)
@@ -216,8 +218,6 @@ class Placer:
                 if item.support == FLOOR and len(doors[0]):
                     if obb_overlaps(center, half, rot, *doors, cfg.tolerances.box_margin).any():
                         continue
-                ids = list(placed)
-                others = _stack([placed[i].box for i in ids])
                 hits = obb_overlaps(center, half, rot, *others, cfg.tolerances.box_margin)[0]
                 near = [ids[j] for j in np.flatnonzero(hits)]
                 if near:
