@@ -51,7 +51,8 @@ class Pair2Scene:
         self.model = model
         self.stats = load_stats() if stats is None else stats
         self.rooms = RoomTable.load() if rooms is None else rooms
-        self.placer = Placer(model, SizeTable.load() if sizes is None else sizes, config)
+        self.placer = Placer(model, SizeTable.load() if sizes is None else sizes, config,
+                             sup_dep=self.stats.sup_dep)  # fmt: skip
 
     @classmethod
     def from_pretrained(

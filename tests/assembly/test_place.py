@@ -11,7 +11,7 @@ torch = pytest.importorskip("torch")
 
 from pair2scene.assembly.collision import MeshWorld, Shape  # noqa: E402
 from pair2scene.assembly.place import AssemblyConfig, Placer, door_boxes, upright  # noqa: E402
-from pair2scene.assembly.rest import rest_on_surfaces  # noqa: E402
+from pair2scene.assembly.rest import contact_rectangle, rest_on_surfaces  # noqa: E402
 from pair2scene.assembly.rooms import make_room  # noqa: E402
 from pair2scene.hierarchy.tree import Hierarchy  # noqa: E402
 from pair2scene.model import from_pretrained  # noqa: E402
@@ -62,8 +62,10 @@ def test_places_everything_without_collisions_and_at_rest(placer):
             assert room.contains_xy(o.box.corners()[:, :2]).all()
         else:
             sup = by_id[o.support]
-            z = rest_on_surfaces(assets[sup.id], sup.box, o.box)
-            assert z is not None and o.box.bottom == pytest.approx(z, abs=1e-6)
+            rest = rest_on_surfaces(assets[sup.id], sup.box, o.box, contact=contact_rectangle(
+                assets[o.id]))
+            assert rest is not None and o.box.bottom == pytest.approx(rest[0], abs=1e-6)
+            assert not rest[1].any()  # already where the nudge put it
     assert 0 < stats.acceptance_rate <= 1 and stats.resamples_per_object >= 0
     assert set(stats.to_dict()["seconds"]) == {"model", "assets", "collision", "total"}
 

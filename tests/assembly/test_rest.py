@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pair2scene.assembly.rest import dropped, footprint, on_floor, rest_on_surfaces
+from pair2scene.assembly.rest import (
+    contact_rectangle,
+    dropped,
+    footprint,
+    into_room,
+    on_floor,
+    rest_on_surfaces,
+)
 from pair2scene.assets.registry import generate
 from pair2scene.scene.geometry import OrientedBox, rot_x
 
@@ -17,6 +24,11 @@ def bookcase():
     return asset, OrientedBox.from_yaw([2.0, 1.0, 0.8], size, np.pi / 2)
 
 
+def rest_z(*args, **kwargs):
+    rest = rest_on_surfaces(*args, **kwargs)
+    return None if rest is None else rest[0]
+
+
 def book_at(x, y, bottom):
     return OrientedBox.from_yaw([x, y, bottom + 0.12], [0.05, 0.2, 0.24], np.pi / 2)
 
@@ -24,9 +36,9 @@ def book_at(x, y, bottom):
 def test_lands_on_the_predicted_tier(bookcase):
     asset, box = bookcase
     for tier in (0.42, 0.82, 1.22):
-        z = rest_on_surfaces(asset, box, book_at(2.0, 1.0, tier + 0.03))
+        z = rest_z(asset, box, book_at(2.0, 1.0, tier + 0.03))
         assert z == pytest.approx(tier, abs=2e-3)
-    top = rest_on_surfaces(asset, box, book_at(2.0, 1.0, 1.65))
+    top = rest_z(asset, box, book_at(2.0, 1.0, 1.65))
     assert top == pytest.approx(1.6, abs=2e-3)
 
 
@@ -43,10 +55,48 @@ def test_mug_on_a_table_and_the_floor():
     table = generate("dining_table", [1.2, 0.8, 0.75], 0)
     tbox = OrientedBox.from_yaw([1.0, 1.0, 0.375], [1.2, 0.8, 0.75])
     mug = OrientedBox.from_yaw([1.2, 0.9, 0.9], [0.1, 0.1, 0.1])
-    z = rest_on_surfaces(table, tbox, mug)
+    z = rest_z(table, tbox, mug)
     assert z == pytest.approx(0.75, abs=2e-3)
     assert dropped(mug, z).bottom == pytest.approx(z)
     square = np.array([[0, 0], [3, 0], [3, 3], [0, 3]], float)
     assert on_floor(OrientedBox.from_yaw([1.5, 1.5, 0.4], [1, 1, 0.8]), square)
     assert not on_floor(OrientedBox.from_yaw([2.8, 1.5, 0.4], [1, 1, 0.8]), square)
     assert footprint(mug).shape == (5, 2)
+
+
+def test_a_screen_wider_than_its_stand_stands_on_its_foot():
+    stand = generate("tv_stand", [0.98, 0.45, 0.6], 0)
+    sbox = OrientedBox.from_yaw([2.0, 1.0, 0.3], [0.98, 0.45, 0.6])
+    tv = generate("television", [1.3, 0.3, 0.8], 0, style=0)  # a screen on a central foot
+    contact = contact_rectangle(tv)
+    assert (contact.max(0) - contact.min(0))[0] < 0.98  # its foot, not the screen
+    screen = OrientedBox.from_yaw([2.0, 1.0, 1.05], tv.size)
+    assert rest_on_surfaces(stand, sbox, screen) is None  # judged by its box: hangs off
+    z, shift = rest_on_surfaces(stand, sbox, screen, contact=contact)
+    assert z == pytest.approx(0.6, abs=2e-3) and not shift.any()
+
+
+def test_a_small_overhang_is_nudged_back_within_max_shift():
+    table = generate("dining_table", [1.2, 0.8, 0.75], 0)
+    tbox = OrientedBox.from_yaw([1.0, 1.0, 0.375], [1.2, 0.8, 0.75])
+    mug = OrientedBox.from_yaw([1.62, 1.0, 0.8], [0.1, 0.1, 0.1])  # centre off the edge
+    assert rest_on_surfaces(table, tbox, mug) is None
+    z, shift = rest_on_surfaces(table, tbox, mug, max_shift=0.1)
+    assert z == pytest.approx(0.75, abs=2e-3)
+    assert -0.1 <= shift[0] <= -0.07 and shift[1] == pytest.approx(0.0)
+    moved = OrientedBox.from_yaw([1.62 + shift[0], 1.0 + shift[1], 0.8], [0.1, 0.1, 0.1])
+    assert moved.center[0] + 0.05 <= 1.6 + 1e-6  # now on the top
+    assert rest_on_surfaces(table, tbox, mug, max_shift=0.03) is None  # too far to nudge
+
+
+def test_into_room_moves_in_and_against_the_wall():
+    square = np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float)
+    inside = OrientedBox.from_yaw([2.0, 1.5, 0.4], [1, 1, 0.8])
+    assert into_room(inside, square, 0.3, 0.1) is inside  # nothing to do
+    through = OrientedBox.from_yaw([3.7, 1.5, 0.4], [1, 1, 0.8])  # 0.2 m through the wall
+    fixed = into_room(through, square, 0.3, 0.0)
+    assert fixed.center[0] == pytest.approx(3.499) and on_floor(fixed, square)
+    assert into_room(through, square, 0.1, 0.0) is None
+    near = OrientedBox.from_yaw([0.58, 1.5, 0.4], [1, 1, 0.8])  # 8 cm off the wall
+    assert into_room(near, square, 0.0, 0.1).center[0] == pytest.approx(0.5)
+    assert into_room(near, square, 0.0, 0.05) is near

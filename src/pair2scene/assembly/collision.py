@@ -140,6 +140,35 @@ class MeshWorld:
                     deepest = max(deepest, depth)
         return deepest
 
+    def push_out(self, candidate: Shape, against: Iterable[str]) -> np.ndarray | None:
+        """The horizontal move (3,) that takes the posed candidate out of its deepest contact
+        with each of ``against`` (along the contact normal's horizontal part, 2 mm past
+        touching), summed; zero when none penetrates beyond :attr:`Tolerances.touch`; None
+        when a contact is vertical (resting on or under it: no sideways move frees it)."""
+        fcl = _fcl()
+        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
+        total = np.zeros(3)
+        for oid in against:
+            other = self.shapes.get(oid)
+            if other is None:
+                continue
+            deepest, normal = self.tol.touch, None
+            for oa in candidate.objects:
+                for ob in other.objects:
+                    result = fcl.CollisionResult()
+                    if fcl.collide(oa, ob, request, result):
+                        for c in result.contacts:
+                            if c.penetration_depth > deepest:
+                                deepest, normal = c.penetration_depth, np.asarray(c.normal, float)
+            if normal is None:
+                continue
+            horizontal = np.hypot(normal[0], normal[1])
+            if horizontal < 0.3:
+                return None
+            move = -normal * np.array([1.0, 1.0, 0.0]) / horizontal
+            total += move * (deepest / horizontal + 2e-3)
+        return total
+
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:
         """The ids among ``against`` whose parts penetrate the posed candidate by more than
         :attr:`Tolerances.touch`."""

@@ -26,10 +26,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pair2scene.assembly.balance import BalanceRules, balance_supports
 from pair2scene.assembly.collision import TOLERANCES, MeshWorld, Shape, Tolerances, obb_overlaps
-from pair2scene.assembly.rest import dropped, on_floor, rest_on_surfaces
+from pair2scene.assembly.rest import contact_rectangle, dropped, into_room, rest_on_surfaces
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assets.mesh import Asset
+from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.curation.physics import asset_seed
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
@@ -50,10 +52,29 @@ class AssemblyConfig:
     """Depth in front of (and behind) a door that floor objects must leave free."""
     ceiling_margin_m: float = 0.05
     """Objects must end this far below the ceiling."""
-    snap_yaw_deg: float = 10.0
-    """A drawn yaw within this of the support's axes (every 90 degrees) is snapped onto
-    them: three quarters of the training objects are aligned with their support (beds with
-    walls, books with shelves), while the logistic samples spread around those modes."""
+    snap_yaw_deg: float = 20.0
+    """A floor object's drawn yaw within this of the walls' axes (every 90 degrees) is
+    snapped onto them: 88 % of the training objects stand exactly aligned with their
+    support (beds with walls, books with shelves) and 94 % within 20 degrees, while the
+    logistic samples spread around those modes."""
+    snap_yaw_support_deg: float = 10.0
+    """The same for objects on a support (aligned with the support's axes)."""
+    repair_m: float = 0.15
+    """Largest nudge that puts a candidate onto its surface, into the room or out of a
+    shallow collision (never more than the object's own width); a farther one is
+    rejected."""
+    floor_repair_m: float = 0.4
+    """The same for floor objects (furniture is metres wide: a nudge of a hand's width
+    off a wall or a neighbour keeps the model's arrangement)."""
+    push_attempts: int = 2
+    """Collision push-outs tried per candidate before it is rejected."""
+    wall_snap_m: float = 0.15
+    """A floor object standing this close to a wall is pushed flush against it."""
+    max_load: float | None = 0.3
+    """Share of a support's surface area its dependents may cover before the rest move to
+    another support with room (:func:`balance_supports`); None keeps the hierarchy's."""
+    largest_first: bool = True
+    """Place each support's dependents largest footprint first (anchors still first)."""
     tolerances: Tolerances = TOLERANCES
 
 
@@ -67,6 +88,13 @@ class AssemblyStats:
     """Per placed object: candidates rejected before the accepted one."""
     dropped: list[dict] = field(default_factory=list)
     """``{"id", "category", "reason"}`` per object not placed."""
+    moved: list[dict] = field(default_factory=list)
+    """``{"id", "from", "to"}`` per object moved off a full support before placement."""
+    repaired: int = 0
+    """Accepted candidates that were nudged (onto the surface, into the room, clear of a
+    neighbour) rather than taken as drawn."""
+    rejections: dict[str, int] = field(default_factory=dict)
+    """Rejected candidates by reason: unsupported, outside, ceiling, door, collision."""
     seconds: dict[str, float] = field(default_factory=dict)
     """model, assets, collision (rest, broad and narrow phase), total."""
 
@@ -84,6 +112,9 @@ class AssemblyStats:
             "objects_placed": self.placed,
             "acceptance_rate": round(self.acceptance_rate, 4),
             "resamples_per_object": round(self.resamples_per_object, 4),
+            "moved": self.moved,
+            "repaired": self.repaired,
+            "rejections": dict(sorted(self.rejections.items())),
             "dropped": self.dropped,
             "seconds": {k: round(v, 4) for k, v in self.seconds.items()},
         }
@@ -148,17 +179,50 @@ def _stack(boxes: list[OrientedBox]) -> tuple[np.ndarray, np.ndarray, np.ndarray
 class Placer:
     """Places hierarchies into rooms with a layout model (see the module docstring)."""
 
-    def __init__(self, model, sizes: SizeTable | None = None, config: AssemblyConfig | None = None):
+    def __init__(
+        self,
+        model,
+        sizes: SizeTable | None = None,
+        config: AssemblyConfig | None = None,
+        sup_dep: dict[str, dict[str, int]] | None = None,
+    ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
         self.config = config or AssemblyConfig()
+        self.sup_dep = sup_dep
+        """support category -> dependent category -> count (the hierarchy statistics):
+        where :func:`balance_supports` may move objects from a full support."""
+
+    def assets_for(self, hierarchy: Hierarchy, seed: int) -> dict[str, Asset]:
+        """Every object's asset, seeded by its id and the scene seed. Objects on a support
+        take a size that fits one of its surfaces (a television narrower than its stand's
+        top, a book shorter than the shelf's clearance) when the data has one."""
+        from pair2scene.assets.registry import generate
+
+        assets: dict[str, Asset] = {}
+        for item in hierarchy.sequence():
+            node = item.dependent
+            rng = np.random.default_rng(asset_seed(node.id, seed))
+            fits = None
+            if item.support != FLOOR and item.support in assets:
+                fits = surface_fit(assets[item.support])
+            size = self.sizes.draw(node.category, rng, fits=fits)
+            assets[node.id] = generate(node.category, size, rng)
+        return assets
 
     def place(
-        self, hierarchy: Hierarchy, room: Room, seed: int = 0, scene_id: str = "scene"
+        self,
+        hierarchy: Hierarchy,
+        room: Room,
+        seed: int = 0,
+        scene_id: str = "scene",
+        keep: list[SceneObject] | None = None,
+        keep_assets: dict[str, Asset] | None = None,
     ) -> Placement:
+        """Place ``hierarchy`` in ``room``; ``keep`` objects (with their assets) are fixed
+        where they are and the hierarchy's objects are placed around and on them."""
         import torch
 
-        from pair2scene.assets.registry import generate
         from pair2scene.model.api import Anchor, PlacementQuery
 
         cfg = self.config
@@ -169,24 +233,43 @@ class Placer:
         world = MeshWorld(cfg.tolerances)
         placed: dict[str, _Placed] = {}
         objects: list[SceneObject] = []
+        for obj in keep or []:
+            asset = keep_assets[obj.id]
+            shape = Shape(asset)
+            shape.set_pose(obj.box.rotation, obj.box.center)
+            world.add(obj.id, shape)
+            placed[obj.id] = _Placed(obj.box, asset)
+            objects.append(obj)
         bounds = room.bounds
         doors = _stack(door_boxes(room, cfg.door_clearance_m, room.height))
         n = cfg.candidates * cfg.batches
+        rejections = stats.rejections
 
-        for item in hierarchy.sequence():
+        t0 = time.perf_counter()
+        assets = self.assets_for(hierarchy, seed)
+        overflow: dict[str, str] = {}
+        if cfg.max_load is not None and self.sup_dep is not None:
+            hierarchy, stats.moved, full = balance_supports(
+                hierarchy, assets, self.sup_dep, BalanceRules(cfg.max_load)
+            )
+            overflow = {o["id"]: o["reason"] for o in full}
+        order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
+        timer["assets"] += time.perf_counter() - t0
+
+        for item in order:
             node = item.dependent
+            if node.id in overflow:
+                stats.dropped.append(
+                    {"id": node.id, "category": node.category, "reason": overflow[node.id]}
+                )
+                continue
             if item.support != FLOOR and item.support not in placed:
                 stats.dropped.append(
                     {"id": node.id, "category": node.category,
                      "reason": f"its support {item.support} was dropped"}
                 )  # fmt: skip
                 continue
-            t0 = time.perf_counter()
-            obj_rng = np.random.default_rng(asset_seed(node.id, seed))
-            size = self.sizes.draw(node.category, obj_rng)
-            asset = generate(node.category, size, obj_rng)
-            timer["assets"] += time.perf_counter() - t0
-
+            asset = assets[node.id]
             if item.support == FLOOR:
                 support = Anchor.floor(bounds)
             else:
@@ -203,28 +286,24 @@ class Placer:
             timer["model"] += time.perf_counter() - t0
 
             t0 = time.perf_counter()
-            ref_yaw = 0.0 if item.support == FLOOR else placed[item.support].box.yaw
+            on_floor_ = item.support == FLOOR
+            ref_yaw = 0.0 if on_floor_ else placed[item.support].box.yaw
+            snap = cfg.snap_yaw_deg if on_floor_ else cfg.snap_yaw_support_deg
             shape = Shape(asset)
             ids = list(placed)  # fixed while this object's candidates are tried
             others = _stack([placed[i].box for i in ids])
+            context = _Context(item.support, placed, room, doors, others, ids, shape, world,
+                               contact_rectangle(asset))  # fmt: skip
             accepted = None
             for index, vec in enumerate(boxes):
-                drawn = upright(OrientedBox.from_vector(vec), ref_yaw, cfg.snap_yaw_deg)
+                drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
                 box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's own
-                box = self._rest(box, item.support, placed, room)
-                if box is None or box.top > room.height - cfg.ceiling_margin_m:
+                box, reason, moved = self._settle_candidate(box, context)
+                if reason is not None:
+                    rejections[reason] = rejections.get(reason, 0) + 1
                     continue
-                center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
-                if item.support == FLOOR and len(doors[0]):
-                    if obb_overlaps(center, half, rot, *doors, cfg.tolerances.box_margin).any():
-                        continue
-                hits = obb_overlaps(center, half, rot, *others, cfg.tolerances.box_margin)[0]
-                near = [ids[j] for j in np.flatnonzero(hits)]
-                if near:
-                    shape.set_pose(box.rotation, box.center)
-                    if world.colliding(shape, near):
-                        continue
                 accepted = (index, box)
+                stats.repaired += int(moved)
                 break
             timer["collision"] += time.perf_counter() - t0
             if accepted is None:
@@ -246,17 +325,149 @@ class Placer:
                     functional_anchor=item.functional if item.functional in placed else None,
                 )
             )  # fmt: skip
-        stats.placed = len(objects)
+        stats.placed = len(objects) - len(keep or [])
         stats.seconds = {**timer, "total": time.perf_counter() - start}
         scene = Scene(scene_id, room, objects, source="pair2scene", stats=stats.to_dict())
         return Placement(scene, stats, {oid: p.asset for oid, p in placed.items()})
 
-    @staticmethod
-    def _rest(box: OrientedBox, support: str, placed: dict, room: Room) -> OrientedBox | None:
-        """The candidate dropped onto what carries it, or None."""
-        if support == FLOOR:
+    def _settle_candidate(
+        self, box: OrientedBox, ctx: _Context
+    ) -> tuple[OrientedBox | None, str | None, bool]:
+        """The candidate at rest (dropped, nudged onto its surface or into the room, pushed
+        out of a shallow collision), the reason it cannot stay, and whether it was moved."""
+        cfg = self.config
+        moved = False
+        for attempt in range(cfg.push_attempts + 1):
+            rested, reason, shifted = self._rest(box, ctx)
+            if reason is not None:
+                return None, reason, moved
+            moved |= shifted
+            if rested.top > ctx.room.height - cfg.ceiling_margin_m:
+                return None, "ceiling", moved
+            reason, hits = self._blocked(rested, ctx)
+            if reason is None:
+                return rested, None, moved
+            if reason != "collision" or attempt == cfg.push_attempts:
+                return None, reason, moved
+            ctx.shape.set_pose(rested.rotation, rested.center)
+            push = ctx.world.push_out(ctx.shape, hits)
+            limit = min(self._repair(ctx), float(max(rested.size[:2])))
+            if push is None or not push.any() or np.linalg.norm(push) > limit:
+                return None, reason, moved
+            center = rested.center + push
+            box, moved = OrientedBox(center, rested.size, rested.rotation), True
+        return None, "collision", moved  # unreachable: the loop returns
+
+    def _rest(self, box: OrientedBox, ctx: _Context) -> tuple[OrientedBox | None, str | None, bool]:
+        """The candidate dropped onto what carries it (nudged at most ``repair_m``), or
+        (None, why not); and whether it was nudged."""
+        cfg = self.config
+        if ctx.support == FLOOR:
             box = dropped(box, 0.0)
-            return box if on_floor(box, room.floor_polygon) else None
-        sp = placed[support]
-        z = rest_on_surfaces(sp.asset, sp.box, box)
-        return None if z is None else dropped(box, z)
+            inside = into_room(box, ctx.room.floor_polygon, cfg.floor_repair_m, cfg.wall_snap_m)
+            if inside is None:
+                return None, "outside", False
+            return inside, None, inside is not box
+        sp = ctx.placed[ctx.support]
+        rest = rest_on_surfaces(sp.asset, sp.box, box, contact=ctx.contact,
+                                max_shift=cfg.repair_m)  # fmt: skip
+        if rest is None:
+            return None, "unsupported", False
+        z, shift = rest
+        box = dropped(box, z)
+        if shift.any():
+            center = box.center.copy()
+            center[:2] += shift
+            box = OrientedBox(center, box.size, box.rotation)
+        return box, None, bool(shift.any())
+
+    def _repair(self, ctx: _Context) -> float:
+        return self.config.floor_repair_m if ctx.support == FLOOR else self.config.repair_m
+
+    def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list[str]]:
+        """Why a resting candidate cannot stay ("door", "collision") and what it hits."""
+        margin = self.config.tolerances.box_margin
+        center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
+        if ctx.support == FLOOR and len(ctx.doors[0]):
+            if obb_overlaps(center, half, rot, *ctx.doors, margin).any():
+                return "door", []
+        hits = obb_overlaps(center, half, rot, *ctx.others, margin)[0]
+        near = [ctx.ids[j] for j in np.flatnonzero(hits)]
+        if near:
+            ctx.shape.set_pose(box.rotation, box.center)
+            colliding = ctx.world.colliding(ctx.shape, near)
+            if colliding:
+                return "collision", colliding
+        return None, []
+
+
+@dataclass
+class _Context:
+    """What one object's candidates are judged against."""
+
+    support: str
+    placed: dict
+    room: Room
+    doors: tuple
+    others: tuple
+    ids: list
+    shape: Shape
+    world: MeshWorld
+    contact: np.ndarray
+
+
+def surface_fit(support: Asset, margin: float = 0.9):
+    """A test of sizes (K, 3) -> (K,) bool: which fit on one of ``support``'s surfaces
+    (footprint within ``margin`` of the surface's extent either way round, height under
+    its clearance)."""
+    limits = []
+    for surface in surfaces_of(support):
+        extent = np.sort(surface.polygon.max(0) - surface.polygon.min(0))
+        limits.append((extent * margin, surface.clearance))
+
+    def fits(sizes: np.ndarray) -> np.ndarray:
+        sizes = np.asarray(sizes, float)
+        foot = np.sort(sizes[:, :2], axis=1)
+        ok = np.zeros(len(sizes), bool)
+        for extent, clearance in limits:
+            ok |= (foot <= extent).all(1) & (sizes[:, 2] <= clearance)
+        return ok
+
+    return fits
+
+
+def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
+    """The hierarchy's sequence with each support's dependents placed largest footprint
+    first (the packing order that leaves room for the small ones), anchors still before
+    their dependents: a topological order by (the support's turn, -footprint, sequence)."""
+    import heapq
+
+    sequence = hierarchy.sequence()
+    turn: dict[str, int] = {}
+    for item in sequence:
+        turn.setdefault(item.support, len(turn))
+    waiting: dict[str, list[int]] = {}
+    blockers = []
+    for i, item in enumerate(sequence):
+        deps = {item.support, item.functional} - {None, FLOOR}
+        deps = {d for d in deps if d in assets}
+        blockers.append(len(deps))
+        for d in deps:
+            waiting.setdefault(d, []).append(i)
+
+    def key(i: int) -> tuple:
+        item = sequence[i]
+        size = assets[item.dependent.id].size
+        return (turn[item.support], -float(size[0] * size[1]), i)
+
+    heap = [key(i) for i in range(len(sequence)) if blockers[i] == 0]
+    heapq.heapify(heap)
+    out = []
+    while heap:
+        i = heapq.heappop(heap)[-1]
+        out.append(sequence[i])
+        for j in waiting.get(sequence[i].dependent.id, []):
+            blockers[j] -= 1
+            if blockers[j] == 0:
+                heapq.heappush(heap, key(j))
+    return out

@@ -55,15 +55,21 @@ class SizeTable:
             out[cat] = arr.astype(float)
         return cls(out)
 
-    def draw(self, category: str, rng: np.random.Generator, jitter: float = JITTER) -> np.ndarray:
-        """A size (3,) for ``category``: an observed one, jittered; typical size if unseen."""
+    def draw(
+        self, category: str, rng: np.random.Generator, jitter: float = JITTER, fits=None
+    ) -> np.ndarray:
+        """A size (3,) for ``category``: an observed one, jittered; typical size if unseen.
+        ``fits`` ((K, 3) -> (K,) bool) narrows the draw to the sizes it accepts (when none
+        does, the smallest footprint is taken)."""
         observed = self.sizes.get(category)
         if observed is None or len(observed) == 0:
             from pair2scene.render import typical_size
 
-            base = np.asarray(typical_size(category).size, dtype=float)
-        else:
-            base = observed[int(rng.integers(len(observed)))]
+            observed = np.asarray(typical_size(category).size, dtype=float)[None]
+        if fits is not None:
+            ok = fits(observed)
+            observed = observed[ok] if ok.any() else observed[[np.argmin(observed[:, :2].prod(1))]]
+        base = observed[int(rng.integers(len(observed)))]
         return base * np.exp(rng.normal(0.0, jitter, 3))
 
     def to_json(self) -> str:

@@ -1,0 +1,109 @@
+"""Spreading small objects over the supports that have room for them.
+
+A hierarchy is drawn before any size is known, so it can pile a dozen objects onto a small
+dresser while the desk beside it stays bare. Rejection sampling on a crowded surface then
+burns its candidates: on the bundled bedrooms, objects on supports filled past 40 % of
+their area took 8.4 resamples each, those below 20 % took 0.1-0.2.
+
+:func:`balance_supports` walks each support's dependents largest first and, once their
+footprints fill :attr:`BalanceRules.max_load` of the support's surface area, moves the rest
+to another object of the scene that the curated statistics say carries that category
+(a remote control from a full dresser to the side table), the one with the most free
+area; an object no support has room for is reported as overflow (placement drops it with
+that reason). Objects resting on a moved object move with it; a moved object loses its
+functional anchor (which stays on the old support).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from pair2scene.assets.mesh import Asset
+from pair2scene.assets.surfaces import surfaces_of
+from pair2scene.hierarchy.tree import Hierarchy
+from pair2scene.scene.model import FLOOR
+
+
+@dataclass(frozen=True)
+class BalanceRules:
+    max_load: float = 0.3
+    """Share of a support's surface area its dependents' footprints may cover: random
+    placement of boxes jams well before full packing (~0.5 for similar rectangles)."""
+
+
+def surface_area(asset: Asset) -> float:
+    """m^2 of upward surface an asset offers (every tier of a shelf counts)."""
+    return float(sum(s.area for s in surfaces_of(asset) if s.clearance > 0.02))
+
+
+def balance_supports(
+    hierarchy: Hierarchy,
+    assets: dict[str, Asset],
+    sup_dep: dict[str, dict[str, int]],
+    rules: BalanceRules = BalanceRules(),
+) -> tuple[Hierarchy, list[dict], list[dict]]:
+    """The hierarchy with overflowing objects moved; the moves ``{"id", "from", "to"}``;
+    the overflow ``{"id", "category", "reason"}`` (objects no support has room for)."""
+    category = {n.id: n.category for n in hierarchy.nodes}
+    area = {oid: surface_area(a) for oid, a in assets.items() if oid in category}
+    load = dict.fromkeys(area, 0.0)
+    support = dict(hierarchy.support)
+    functional = dict(hierarchy.functional)
+    moves: list[dict] = []
+    overflow: list[dict] = []
+
+    def footprint(oid: str) -> float:
+        size = assets[oid].size
+        return float(size[0] * size[1])
+
+    order = [item.dependent.id for item in hierarchy.sequence()]
+    rank = {oid: i for i, oid in enumerate(order)}
+    by_support: dict[str, list[str]] = {}
+    for oid in order:
+        if support[oid] != FLOOR:
+            by_support.setdefault(support[oid], []).append(oid)
+    for sup in [s for s in order if s in by_support]:
+        for oid in sorted(by_support[sup], key=lambda o: (-footprint(o), rank[o])):
+            f = footprint(oid)
+            if load[sup] + f <= rules.max_load * area[sup] or _is_own_dependent(functional, oid):
+                load[sup] += f
+                continue
+            target = _free_support(oid, f, category, support, sup_dep, area, load, rules)
+            if target is None:
+                overflow.append({"id": oid, "category": category[oid],
+                                 "reason": f"no free surface: {sup} is full"})  # fmt: skip
+                continue
+            support[oid] = target
+            functional.pop(oid, None)
+            for other, anchor in list(functional.items()):
+                if anchor == oid:  # its functional dependents stay where they are
+                    del functional[other]
+            load[target] += f
+            moves.append({"id": oid, "from": sup, "to": target})
+    balanced = replace(hierarchy, support=support, functional=functional,
+                       notes=list(hierarchy.notes))  # fmt: skip
+    return balanced, moves, overflow
+
+
+def _is_own_dependent(functional: dict[str, str], oid: str) -> bool:
+    """Objects others are placed relative to (a plate with a fork beside it) stay."""
+    return oid in functional.values()
+
+
+def _free_support(oid, f, category, support, sup_dep, area, load, rules) -> str | None:
+    """The scene's object with the most free area that carries ``oid``'s category in the
+    statistics, is not ``oid`` nor rests on it, and has room for ``f`` m^2."""
+    below = {oid}
+    changed = True
+    while changed:  # oid's own subtree: never a support for it
+        new = {o for o, s in support.items() if s in below} - below
+        changed = bool(new)
+        below |= new
+    best, best_free = None, 0.0
+    for cand in sorted(area):
+        if cand in below or sup_dep.get(category[cand], {}).get(category[oid], 0) <= 0:
+            continue
+        free = rules.max_load * area[cand] - load[cand]
+        if free >= f and free > best_free:
+            best, best_free = cand, free
+    return best
