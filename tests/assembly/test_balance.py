@@ -66,7 +66,8 @@ def test_largest_first_keeps_anchors_before_dependents():
     h.add("cell_phone", desk.id, laptop.id)
     h.validate()
     sizes = {"desk": [1.2, 0.6, 0.75], "chair": [0.5, 0.5, 0.9], "bed": [1.6, 2.1, 0.6],
-             "pen": [0.14, 0.01, 0.01], "laptop": [0.35, 0.25, 0.02], "cell_phone": [0.07, 0.14, 0.01]}
+             "pen": [0.14, 0.01, 0.01], "laptop": [0.35, 0.25, 0.02],
+             "cell_phone": [0.07, 0.14, 0.01]}  # fmt: skip
     assets = {n.id: generate(n.category, sizes[n.category], 0) for n in h.nodes}
     order = [i.dependent.id for i in placement_order(h, assets)]
     assert sorted(order) == sorted(n.id for n in h.nodes)

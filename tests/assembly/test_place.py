@@ -62,8 +62,9 @@ def test_places_everything_without_collisions_and_at_rest(placer):
             assert room.contains_xy(o.box.corners()[:, :2]).all()
         else:
             sup = by_id[o.support]
-            rest = rest_on_surfaces(assets[sup.id], sup.box, o.box, contact=contact_rectangle(
-                assets[o.id]))
+            rest = rest_on_surfaces(
+                assets[sup.id], sup.box, o.box, contact=contact_rectangle(assets[o.id])
+            )
             assert rest is not None and o.box.bottom == pytest.approx(rest[0], abs=1e-6)
             assert not rest[1].any()  # already where the nudge put it
     assert 0 < stats.acceptance_rate <= 1 and stats.resamples_per_object >= 0
