@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import pytest
@@ -11,9 +12,10 @@ from clitools import run_cli
 pytest.importorskip("torch")
 
 from pair2scene import Pair2Scene  # noqa: E402
+from pair2scene.assembly.collision import MeshWorld, Shape  # noqa: E402
 from pair2scene.errors import UserError  # noqa: E402
 from pair2scene.generate import generate_scenes  # noqa: E402
-from pair2scene.io.scene_json import read_scene  # noqa: E402
+from pair2scene.io.scene_json import dumps_scene, read_scene  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +71,9 @@ def test_cli_writes_folders_summary_and_resumes(tmp_path):
 def test_bad_requests_are_one_line_errors(tmp_path):
     for args, msg in [
         (["--room", "garage"], "unknown room type"),
-        (["--room", "bedroom", "--text", "a bed"], "exactly one"),
+        (["--room", "bedroom", "--text", "a bed"], "not both"),
+        ([], "give --room, --text or --keep"),
+        (["--room", "bedroom", "--threads", "0"], "--threads"),
         (["--room", "bedroom", "--num", "0"], "--num"),
         (["--room", "bedroom", "--model", str(tmp_path)], "config.json: missing"),
         (["--text", "xyzzy", "--llm", "never"], "no room type and no known object"),
@@ -81,3 +85,83 @@ def test_bad_requests_are_one_line_errors(tmp_path):
     generate_scenes(tmp_path / "other", room="kitchen", progress=False)
     with pytest.raises(UserError, match="another request"):
         generate_scenes(tmp_path / "other", room="bedroom", progress=False)
+
+
+def partial_scene(tmp_path, p2s, overlap: bool = False):
+    """A partial scene.json from a generated one: its bed, a pillow on the bed, the
+    dresser (or, with ``overlap``, a second bed through the first)."""
+    g = p2s.generate(room="bedroom", seed=0)
+    doc = json.loads(dumps_scene(g.scene))
+    by_id = {o["id"]: o for o in doc["objects"]}
+    keep = [o for o in doc["objects"] if o["category"] in ("bed", "dresser")]
+    keep += [o for o in doc["objects"] if o["support"] == "bed_0" and o["category"] == "pillow"]
+    for o in keep:
+        o["id"] = "my_" + o["id"]
+        o["support"] = o["support"] if o["support"] == "floor" else "my_" + o["support"]
+        o["functional_anchor"] = None
+    if overlap:
+        twin = json.loads(json.dumps(by_id["bed_0"]))
+        twin["id"] = "twin_bed"
+        twin["center"][0] += 0.3
+        keep.append(twin)
+    doc["objects"] = keep
+    path = tmp_path / ("overlap.json" if overlap else "partial.json")
+    path.write_text(json.dumps(doc))
+    return path, {o["id"]: o for o in keep}
+
+
+def test_keep_fills_in_around_fixed_objects(tmp_path, p2s):
+    path, kept = partial_scene(tmp_path, p2s)
+    g = p2s.generate(keep=path, seed=4)
+    assert g.scene.room.type == "bedroom" and g.stats["kept"] == len(kept)
+    by_id = {o.id: o for o in g.scene.objects}
+    for o in read_scene(path).objects:  # exactly where they were
+        assert by_id[o.id].box.allclose(o.box, atol=1e-9)
+    added = [o for o in g.scene.objects if o.id not in kept]
+    assert added and g.stats["objects_placed"] == len(added)
+    # the drawn bed became the kept one: what the hierarchy put on its bed is on it
+    assert "bed_0" not in by_id
+    assert any(o.support == "my_bed_0" for o in added)
+    world = MeshWorld()
+    for o in g.scene.objects:
+        shape = Shape(g.assets[o.id])
+        shape.set_pose(o.box.rotation, o.box.center)
+        world.add(o.id, shape)
+    for a, b in itertools.combinations(world.shapes, 2):
+        assert world.penetration(world.shapes[a], world.shapes[b]) <= 0.01, (a, b)
+
+
+def test_bad_keep_files_are_one_line_errors(tmp_path, p2s):
+    overlap, _ = partial_scene(tmp_path, p2s, overlap=True)
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"format": "pair2scene.scene", "objects": [')
+    for path, msg in [(overlap, "intersect"), (broken, "broken.json"),
+                      (tmp_path / "missing.json", "no such file")]:  # fmt: skip
+        proc = run_cli("generate", "--keep", str(path), "--out", str(tmp_path / "o"))
+        assert proc.returncode == 2 and msg in proc.stderr, (path, proc.stderr)
+        assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+        assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+def test_settle_keeps_a_placed_scene_at_rest(p2s):
+    g = p2s.generate(room="bedroom", seed=1, settle=True)
+    assert g.stats["settle"]["max_motion_m"] < 0.02  # placed at rest: nothing to fall
+    assert "physics" in g.stats["seconds"]
+    assert g.stats["objects_placed"] == len(g.scene.objects)
+    again = p2s.generate(room="bedroom", seed=1, settle=True)
+    assert dumps_scene(again.scene) == dumps_scene(g.scene)
+
+
+def test_a_room_too_small_gives_a_partial_scene_with_reasons(tmp_path, p2s):
+    doc = json.loads(dumps_scene(p2s.generate(room="bedroom", seed=0).scene))
+    doc["objects"] = []
+    doc["room"]["floor_polygon"] = [[0, 0], [1.2, 0], [1.2, 1.0], [0, 1.0]]
+    doc["room"]["doors"] = []
+    path = tmp_path / "tiny.json"
+    path.write_text(json.dumps(doc))
+    proc = run_cli("generate", "--keep", str(path), "--out", str(tmp_path / "o"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    scene = json.loads(proc.stdout)["scenes"][0]
+    assert scene["acceptance_rate"] < 0.5
+    reasons = " ".join(d["reason"] for d in scene["dropped"])
+    assert "too large for the room" in reasons and "was dropped" in reasons

@@ -25,13 +25,24 @@ def generate_command(
         "default"
     ),
     llm: Annotated[str, typer.Option(help="--text: auto, never (offline) or always.")] = "auto",
+    keep: Annotated[
+        Path | None,
+        typer.Option(help="A partial scene.json: its room and objects stay, the rest is added."),
+    ] = None,
+    settle: Annotated[
+        bool, typer.Option("--settle", help="End with a short MuJoCo settle of the scene.")
+    ] = False,
+    threads: Annotated[
+        int | None, typer.Option(help="CPU threads for torch (default: all cores, at most 4).")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
 ) -> None:
     """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png and OUT/summary.json."""
-    from pair2scene.generate import generate_scenes
+    from pair2scene.generate import generate_scenes, set_threads
 
+    set_threads(threads)
     summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
-                              progress=not as_json)  # fmt: skip
+                              progress=not as_json, keep=keep, settle=settle)  # fmt: skip
     if as_json:
         typer.echo(json.dumps(summary, indent=1))
         return

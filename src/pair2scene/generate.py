@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pair2scene.assembly.keep import check_overlaps, keep_assets, merge_keep, read_keep
 from pair2scene.assembly.place import AssemblyConfig, Placer
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
@@ -73,23 +74,117 @@ class Pair2Scene:
         max_objects: int | None = None,
         llm: str = "auto",
         scene_id: str | None = None,
+        keep: str | Path | None = None,
+        settle: bool = False,
     ) -> Generated:
-        """One scene for a room type or a description; same arguments, same scene."""
+        """One scene for a room type or a description; same arguments, same scene.
+
+        keep : a partial scene.json whose room and objects are kept as they are, the rest
+            filled in around and on them (its room type is used when neither ``room`` nor
+            ``text`` is given).
+        settle : end with a short MuJoCo simulation of the whole scene
+            (:func:`settle_scene`): objects take their resting poses, and any that falls
+            or slides is dropped with the reason.
+        """
+        partial, keep_notes = (None, []) if keep is None else read_keep(keep)
+        if room is None and text is None:
+            if partial is None:
+                raise UserError("give a room type, a description or a partial scene to keep")
+            room = partial.room.type
         hierarchy = build_hierarchy(
             None if room is None else room_key(room), text, mode, max_objects, seed,
             self.stats, llm,
         )  # fmt: skip
-        room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms)
+        kept_assets: dict = {}
+        if partial is None:
+            room_obj = make_room(
+                hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms
+            )
+        else:
+            room_obj = partial.room
+            kept_assets = keep_assets(partial)
+            check_overlaps(partial, kept_assets, str(keep))
+            hierarchy, _ = merge_keep(hierarchy, partial.objects)
         sid = scene_id or f"{hierarchy.room_type}_{seed:04d}"
-        placement = self.placer.place(hierarchy, room_obj, seed=seed, scene_id=sid)
+        placement = self.placer.place(
+            hierarchy, room_obj, seed=seed, scene_id=sid,
+            keep=None if partial is None else partial.objects, keep_assets=kept_assets,
+        )  # fmt: skip
         stats = placement.stats.to_dict()
-        stats["hierarchy_notes"] = list(hierarchy.notes)
+        if partial is not None:
+            stats["kept"] = len(partial.objects)
+        if settle:
+            placement.scene, physics = settle_scene(
+                placement.scene, placement.assets, frozenset(o.id for o in partial.objects)
+                if partial is not None else frozenset(),
+            )  # fmt: skip
+            stats["dropped"] += physics["dropped"]
+            stats["objects_placed"] -= len(physics["dropped"])
+            stats["acceptance_rate"] = round(
+                stats["objects_placed"] / max(stats["objects_requested"], 1), 4
+            )
+            stats["seconds"]["physics"] = physics["seconds"]
+            stats["seconds"]["total"] = round(stats["seconds"]["total"] + physics["seconds"], 4)
+            stats["settle"] = {k: v for k, v in physics.items() if k not in ("dropped", "seconds")}
+        stats["hierarchy_notes"] = list(hierarchy.notes) + keep_notes
         stats["mode"] = mode
         stats["seed"] = seed
         # Timings vary from run to run: summary.json has them, scene.json must not, so that
         # the same seed gives a byte-identical scene.json.
         placement.scene.stats = {k: v for k, v in stats.items() if k != "seconds"}
         return Generated(placement.scene, hierarchy, placement.assets, stats)
+
+
+def set_threads(threads: int | None = None) -> None:
+    """Torch's CPU threads: ``threads``, or the usable cores up to 4 (the layout model's
+    forward passes are small; more threads only add overhead). Run several generate jobs
+    side by side with ``--threads 1`` each."""
+    import os
+
+    import torch
+
+    if threads is not None and threads < 1:
+        raise UserError("--threads must be at least 1")
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    torch.set_num_threads(threads or max(1, min(4, cores or 1)))
+
+
+def settle_scene(
+    scene: Scene, assets: dict, fixed: frozenset[str] = frozenset()
+) -> tuple[Scene, dict]:
+    """A short MuJoCo settle of the whole scene (pair2scene.curation.physics: contacts
+    push shallow overlaps apart, then 1 s under gravity): every free object takes its
+    resting pose; one that moves more than 5 cm or tips over is dropped with its
+    dependents. ``fixed`` objects (kept by the user) are never dropped and keep their
+    pose. Returns the scene and ``{"dropped", "seconds", "max_motion_m",
+    "mean_motion_m"}``."""
+    from dataclasses import replace
+
+    from pair2scene.curation.physics import PhysicsConfig, validate_physics
+
+    outcome = validate_physics(scene, config=PhysicsConfig(fit_heights=False), assets=assets)
+    dropped = {k: v for k, v in outcome.dropped.items() if k not in fixed}
+    by_id = scene.by_id()
+    objects = []
+    for o in scene.objects:
+        if o.id in dropped:
+            continue
+        settled = outcome.settled.get(o.id)
+        if settled is not None and o.id not in fixed:
+            o = o.with_box(settled)
+        if o.functional_anchor in dropped:
+            o = replace(o, functional_anchor=None)
+        objects.append(o)
+    motion = [m for oid, (m, _) in outcome.motion.items() if oid not in dropped]
+    report = {
+        "dropped": [{"id": k, "category": by_id[k].category, "reason": f"physics: {v}"}
+                    for k, v in dropped.items()],  # fmt: skip
+        "seconds": round(outcome.seconds, 4),
+        "max_motion_m": round(float(max(motion, default=0.0)), 4),
+        "mean_motion_m": round(float(np.mean(motion)) if motion else 0.0, 4),
+        "notes": list(outcome.notes),
+    }
+    return replace(scene, objects=objects), report
 
 
 def generate_scenes(
@@ -103,6 +198,8 @@ def generate_scenes(
     model: str = "default",
     llm: str = "auto",
     progress: bool = True,
+    keep: str | Path | None = None,
+    settle: bool = False,
 ) -> dict:
     """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``; returns the
     summary (also written as ``out/summary.json``). Scenes already in ``out`` from an
@@ -110,8 +207,10 @@ def generate_scenes(
     from pair2scene.assembly.export import write_scene_folder
     from pair2scene.progress import track
 
-    if (room is None) == (text is None):
-        raise UserError("give exactly one of --room or --text")
+    if room is not None and text is not None:
+        raise UserError("give one of --room or --text, not both")
+    if room is None and text is None and keep is None:
+        raise UserError("give --room, --text or --keep")
     if num < 1:
         raise UserError("--num must be >= 1")
     out = Path(out)
@@ -119,9 +218,16 @@ def generate_scenes(
         raise UserError(f"{out}: exists and is not a folder")
     request = {"room": room, "text": text, "mode": mode, "max_objects": max_objects,
                "model": str(model), "llm": llm}  # fmt: skip
+    if keep is not None or settle:  # (earlier summaries have neither key)
+        request.update(keep=None if keep is None else str(keep), settle=settle)
     summary = _read_summary(out, request)
     p2s = Pair2Scene.from_pretrained(model)
-    # A bad room type or text fails here, in one line, before any progress is shown.
+    # A bad room type, text or partial scene fails here, in one line, before any progress.
+    if keep is not None:
+        partial, _ = read_keep(keep)
+        check_overlaps(partial, keep_assets(partial), str(keep))
+        if room is None and text is None:
+            room = partial.room.type
     build_hierarchy(None if room is None else room_key(room), text, mode, max_objects, seed,
                     p2s.stats, llm)  # fmt: skip
     done = {s["id"]: s for s in summary["scenes"]}
@@ -131,7 +237,8 @@ def generate_scenes(
         sid = f"{prefix}_{s:04d}"
         if sid in done and (out / sid / "scene.json").is_file():
             continue
-        result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid)
+        result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=keep,
+                              settle=settle)  # fmt: skip
         write_scene_folder(out / sid, result.scene, result.assets)
         done[sid] = {"id": sid, **result.stats}
         summary["scenes"] = [done[k] for k in sorted(done)]

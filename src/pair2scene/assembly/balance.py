@@ -41,9 +41,11 @@ def balance_supports(
     assets: dict[str, Asset],
     sup_dep: dict[str, dict[str, int]],
     rules: BalanceRules = BalanceRules(),
+    fixed: frozenset[str] | set[str] = frozenset(),
 ) -> tuple[Hierarchy, list[dict], list[dict]]:
     """The hierarchy with overflowing objects moved; the moves ``{"id", "from", "to"}``;
-    the overflow ``{"id", "category", "reason"}`` (objects no support has room for)."""
+    the overflow ``{"id", "category", "reason"}`` (objects no support has room for).
+    ``fixed`` objects (kept by the user) never move and always count."""
     category = {n.id: n.category for n in hierarchy.nodes}
     area = {oid: surface_area(a) for oid, a in assets.items() if oid in category}
     load = dict.fromkeys(area, 0.0)
@@ -65,7 +67,8 @@ def balance_supports(
     for sup in [s for s in order if s in by_support]:
         for oid in sorted(by_support[sup], key=lambda o: (-footprint(o), rank[o])):
             f = footprint(oid)
-            if load[sup] + f <= rules.max_load * area[sup] or _is_own_dependent(functional, oid):
+            fits = load[sup] + f <= rules.max_load * area[sup]
+            if fits or oid in fixed or _is_own_dependent(functional, oid):
                 load[sup] += f
                 continue
             target = _free_support(oid, f, category, support, sup_dep, area, load, rules)

@@ -193,15 +193,20 @@ class Placer:
         """support category -> dependent category -> count (the hierarchy statistics):
         where :func:`balance_supports` may move objects from a full support."""
 
-    def assets_for(self, hierarchy: Hierarchy, seed: int) -> dict[str, Asset]:
-        """Every object's asset, seeded by its id and the scene seed. Objects on a support
-        take a size that fits one of its surfaces (a television narrower than its stand's
-        top, a book shorter than the shelf's clearance) when the data has one."""
+    def assets_for(
+        self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
+    ) -> dict[str, Asset]:
+        """Every object's asset, seeded by its id and the scene seed (``given`` ones, kept
+        objects', as they are). Objects on a support take a size that fits one of its
+        surfaces (a television narrower than its stand's top, a book shorter than the
+        shelf's clearance) when the data has one."""
         from pair2scene.assets.registry import generate
 
-        assets: dict[str, Asset] = {}
+        assets: dict[str, Asset] = dict(given or {})
         for item in hierarchy.sequence():
             node = item.dependent
+            if node.id in assets:
+                continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
             fits = None
             if item.support != FLOOR and item.support in assets:
@@ -229,7 +234,8 @@ class Placer:
         start = time.perf_counter()
         timer = {"model": 0.0, "assets": 0.0, "collision": 0.0}
         generator = torch.Generator().manual_seed(seed)
-        stats = AssemblyStats(requested=len(hierarchy))
+        kept = {o.id for o in keep or []}
+        stats = AssemblyStats(requested=sum(1 for n in hierarchy.nodes if n.id not in kept))
         world = MeshWorld(cfg.tolerances)
         placed: dict[str, _Placed] = {}
         objects: list[SceneObject] = []
@@ -246,11 +252,11 @@ class Placer:
         rejections = stats.rejections
 
         t0 = time.perf_counter()
-        assets = self.assets_for(hierarchy, seed)
+        assets = self.assets_for(hierarchy, seed, keep_assets)
         overflow: dict[str, str] = {}
         if cfg.max_load is not None and self.sup_dep is not None:
             hierarchy, stats.moved, full = balance_supports(
-                hierarchy, assets, self.sup_dep, BalanceRules(cfg.max_load)
+                hierarchy, assets, self.sup_dep, BalanceRules(cfg.max_load), kept
             )
             overflow = {o["id"]: o["reason"] for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
@@ -258,6 +264,8 @@ class Placer:
 
         for item in order:
             node = item.dependent
+            if node.id in kept:
+                continue  # fixed where the user put it
             if node.id in overflow:
                 stats.dropped.append(
                     {"id": node.id, "category": node.category, "reason": overflow[node.id]}
@@ -295,22 +303,27 @@ class Placer:
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset))  # fmt: skip
             accepted = None
+            own: dict[str, int] = {}
             for index, vec in enumerate(boxes):
                 drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
                 box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's own
                 box, reason, moved = self._settle_candidate(box, context)
                 if reason is not None:
-                    rejections[reason] = rejections.get(reason, 0) + 1
+                    own[reason] = own.get(reason, 0) + 1
                     continue
                 accepted = (index, box)
                 stats.repaired += int(moved)
                 break
             timer["collision"] += time.perf_counter() - t0
+            for reason, count in own.items():
+                rejections[reason] = rejections.get(reason, 0) + count
             if accepted is None:
-                stats.dropped.append(
-                    {"id": node.id, "category": node.category,
-                     "reason": f"no valid placement among {n} candidates"}
-                )  # fmt: skip
+                why = ", ".join(f"{k} {v}" for k, v in sorted(own.items(), key=lambda kv: -kv[1]))
+                reason = f"no valid placement among {n} candidates ({why})"
+                if on_floor_ and _too_large(asset.size, room):
+                    reason = (f"too large for the room ({asset.size[0]:.2f} x "
+                              f"{asset.size[1]:.2f} m)")  # fmt: skip
+                stats.dropped.append({"id": node.id, "category": node.category, "reason": reason})
                 continue
             index, box = accepted
             shape.set_pose(box.rotation, box.center)
@@ -325,7 +338,7 @@ class Placer:
                     functional_anchor=item.functional if item.functional in placed else None,
                 )
             )  # fmt: skip
-        stats.placed = len(objects) - len(keep or [])
+        stats.placed = len(objects) - len(kept)
         stats.seconds = {**timer, "total": time.perf_counter() - start}
         scene = Scene(scene_id, room, objects, source="pair2scene", stats=stats.to_dict())
         return Placement(scene, stats, {oid: p.asset for oid, p in placed.items()})
@@ -399,6 +412,12 @@ class Placer:
             if colliding:
                 return "collision", colliding
         return None, []
+
+
+def _too_large(size: np.ndarray, room: Room) -> bool:
+    """Whether a footprint fits the room's bounding rectangle in neither orientation."""
+    extent = np.sort(room.floor_polygon.max(0) - room.floor_polygon.min(0))
+    return bool((np.sort(size[:2]) > extent).any())
 
 
 @dataclass

@@ -59,6 +59,7 @@ import numpy as np
 
 from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.categories import SuperCategory
+from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 
 
@@ -179,6 +180,9 @@ class PhysicsOutcome:
     surface (:func:`fit_heights`); the output scene keeps the source's boxes."""
     notes: list[str] = field(default_factory=list)
     """Why the result is partial, if it is (a failed build, an unstable simulation)."""
+    settled: dict[str, OrientedBox] = field(default_factory=dict)
+    """object id -> its box at the end of the simulation, for every free body (empty
+    when the simulation was unstable)."""
 
 
 # -- planning --------------------------------------------------------------------------
@@ -640,20 +644,26 @@ def dependents_closure(
 
 
 def validate_physics(
-    scene: Scene, library=None, config: PhysicsConfig = PhysicsConfig()
+    scene: Scene,
+    library=None,
+    config: PhysicsConfig = PhysicsConfig(),
+    assets: Mapping[str, Asset] | None = None,
 ) -> PhysicsOutcome:
     """Simulate ``scene`` under gravity and drop what does not stay put (with dependents).
 
     library : an :class:`~pair2scene.assets.AssetLibrary` (default: procedural assets).
+    assets : object id -> asset, when the scene's assets are at hand (a generated
+    scene); otherwise they are built from the library.
     A scene that cannot be built or simulated comes back whole, with the reason in
-    ``notes``.
+    ``notes``. ``outcome.settled`` has every kept free body's box at the end.
     """
     t0 = time.perf_counter()
     plans = plan_bodies(scene)
     roles = {k: p.role for k, p in plans.items()}
     outcome = PhysicsOutcome(scene=scene, roles=roles)
     try:
-        assets = scene_assets(scene, library, seed=config.seed)
+        if assets is None:
+            assets = scene_assets(scene, library, seed=config.seed)
         outcome.fitted = fit_heights(scene, plans, assets) if config.fit_heights else {}
         model, free_ids = _build(scene, plans, assets, config, outcome.fitted)
     except Exception as exc:  # noqa: BLE001  (a partial result beats a lost corpus)
@@ -681,6 +691,11 @@ def validate_physics(
         elif rot[i] > config.max_rotation_deg and shift[i] > config.min_rotation_shift_m:
             drop[oid] = f"rotated {rot[i]:.0f} deg"
     outcome.dropped = dependents_closure(scene, drop, plans)
+    if not unstable:
+        by_id = scene.by_id()
+        rotations = _quat_to_matrix(poses.q2)
+        for i, oid in enumerate(free_ids):
+            outcome.settled[oid] = OrientedBox(poses.p2[i], by_id[oid].box.size, rotations[i])
     keep = [o for o in scene.objects if o.id not in outcome.dropped]
     keep = [
         replace(o, functional_anchor=None) if o.functional_anchor in outcome.dropped else o
