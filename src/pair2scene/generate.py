@@ -97,9 +97,7 @@ class Pair2Scene:
         )  # fmt: skip
         kept_assets: dict = {}
         if partial is None:
-            room_obj = make_room(
-                hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms
-            )
+            room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms)
         else:
             room_obj = partial.room
             kept_assets = keep_assets(partial)
@@ -109,6 +107,7 @@ class Pair2Scene:
         placement = self.placer.place(
             hierarchy, room_obj, seed=seed, scene_id=sid,
             keep=None if partial is None else partial.objects, keep_assets=kept_assets,
+            dense=mode == "beyond",
         )  # fmt: skip
         stats = placement.stats.to_dict()
         if partial is not None:
@@ -177,8 +176,10 @@ def settle_scene(
         objects.append(o)
     motion = [m for oid, (m, _) in outcome.motion.items() if oid not in dropped]
     report = {
-        "dropped": [{"id": k, "category": by_id[k].category, "reason": f"physics: {v}"}
-                    for k, v in dropped.items()],  # fmt: skip
+        "dropped": [
+            {"id": k, "category": by_id[k].category, "reason": f"physics: {v}"}
+            for k, v in dropped.items()
+        ],  # fmt: skip
         "seconds": round(outcome.seconds, 4),
         "max_motion_m": round(float(max(motion, default=0.0)), 4),
         "mean_motion_m": round(float(np.mean(motion)) if motion else 0.0, 4),

@@ -31,9 +31,14 @@ class Tolerances:
     """Penetration up to this is contact, not collision: objects rest on and lean against
     each other, and a gravity drop lands exactly on a surface, where float noise in a
     convex-convex test reports ~1e-6 m overlaps."""
-    box_margin: float = 2e-3
-    """Broad phase: boxes are shrunk by this on every side before the overlap test, for the
-    same reason (the broad phase must never be stricter than the narrow phase)."""
+    box_margin: float = 2e-4
+    """Broad phase: boxes are shrunk by this on every side before the overlap test, so that
+    a box dropped exactly onto another's top is not a candidate pair (float noise). Kept
+    far below ``touch``: a larger shrink hides thin objects (a 1 mm CD under a book)."""
+    thin_fraction: float = 0.25
+    """For a thin object the contact tolerance is at most this share of the thinner
+    object's smallest extent: 2 mm of overlap is contact for books, but a credit card
+    2 mm inside a book is in it."""
 
 
 TOLERANCES = Tolerances()
@@ -152,7 +157,7 @@ class MeshWorld:
             other = self.shapes.get(oid)
             if other is None:
                 continue
-            deepest, normal = self.tol.touch, None
+            deepest, normal = self.touch_between(candidate, other), None
             for oa in candidate.objects:
                 for ob in other.objects:
                     result = fcl.CollisionResult()
@@ -175,5 +180,12 @@ class MeshWorld:
         return [
             oid
             for oid in against
-            if oid in self.shapes and self.penetration(candidate, self.shapes[oid]) > self.tol.touch
+            if oid in self.shapes
+            and self.penetration(candidate, self.shapes[oid])
+            > self.touch_between(candidate, self.shapes[oid])
         ]
+
+    def touch_between(self, a: Shape, b: Shape) -> float:
+        """The contact tolerance of a pair: :attr:`Tolerances.touch`, less for thin ones."""
+        thinnest = float(min(a.asset.size.min(), b.asset.size.min()))
+        return min(self.tol.touch, self.tol.thin_fraction * thinnest)

@@ -15,6 +15,13 @@ For each tuple of the hierarchy's sequence (every anchor placed before its depen
 4. the first valid candidate is placed; after ``batches x candidates`` rejections the
    object is dropped with the reason, and so is everything that rests on it.
 
+Before that, every object's asset is drawn (objects on a support at sizes that fit it),
+objects beyond :attr:`AssemblyConfig.max_load` of a support's area move to another
+support with room (:mod:`pair2scene.assembly.balance`), and each support's dependents are
+ordered largest first (:func:`placement_order`). A candidate a little off its surface,
+through a wall, or in a shallow collision is nudged (at most ``repair_m`` /
+``floor_repair_m``) instead of rejected; a floor object near a wall is pushed flush.
+
 Nothing here can loop: every object costs at most one forward pass and a bounded number
 of candidates. Same seed, same model, same hierarchy: the same scene.
 """
@@ -73,6 +80,9 @@ class AssemblyConfig:
     max_load: float | None = 0.3
     """Share of a support's surface area its dependents may cover before the rest move to
     another support with room (:func:`balance_supports`); None keeps the hierarchy's."""
+    dense_max_load: float | None = 0.5
+    """The same for ``beyond`` scenes (``place(dense=True)``), which ask for clutter: more
+    objects per surface, at the cost of more resamples."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     tolerances: Tolerances = TOLERANCES
@@ -223,6 +233,7 @@ class Placer:
         scene_id: str = "scene",
         keep: list[SceneObject] | None = None,
         keep_assets: dict[str, Asset] | None = None,
+        dense: bool = False,
     ) -> Placement:
         """Place ``hierarchy`` in ``room``; ``keep`` objects (with their assets) are fixed
         where they are and the hierarchy's objects are placed around and on them."""
@@ -254,9 +265,10 @@ class Placer:
         t0 = time.perf_counter()
         assets = self.assets_for(hierarchy, seed, keep_assets)
         overflow: dict[str, str] = {}
-        if cfg.max_load is not None and self.sup_dep is not None:
+        max_load = cfg.dense_max_load if dense else cfg.max_load
+        if max_load is not None and self.sup_dep is not None:
             hierarchy, stats.moved, full = balance_supports(
-                hierarchy, assets, self.sup_dep, BalanceRules(cfg.max_load), kept
+                hierarchy, assets, self.sup_dep, BalanceRules(max_load), kept
             )
             overflow = {o["id"]: o["reason"] for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()

@@ -1,0 +1,52 @@
+"""Mesh-level collision and floating metrics on scenes with known answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pair2scene.assets.mesh import Asset, Part, box
+from pair2scene.metrics.physical import floating, intersecting, physical_report
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+
+ROOM = Room("bedroom", np.array([[0, 0], [5, 0], [5, 4], [0, 4]], float), 2.7)
+
+
+def cube(size) -> Asset:
+    return Asset("box", np.asarray(size, float), (Part("b", box([0, 0, 0], size)),))
+
+
+def scene_of(*objs: tuple[str, list, list, str]) -> tuple[Scene, dict]:
+    objects, assets = [], {}
+    for oid, center, size, support in objs:
+        objects.append(SceneObject(oid, "box", OrientedBox.from_yaw(center, size), support=support))
+        assets[oid] = cube(size)
+    return Scene("s", ROOM, objects), assets
+
+
+def test_one_known_collision_and_one_floating_object():
+    scene, assets = scene_of(
+        ("a", [1.0, 1.0, 0.5], [1, 1, 1], FLOOR),
+        ("b", [1.95, 1.0, 0.5], [1, 1, 1], FLOOR),  # 5 cm into a
+        ("c", [4.0, 3.0, 0.25], [0.5, 0.5, 0.5], FLOOR),
+        ("d", [4.0, 3.0, 0.58], [0.1, 0.1, 0.1], "c"),  # 3 cm above c's top
+        ("e", [1.0, 1.0, 1.05], [0.1, 0.1, 0.1], "a"),  # resting on a
+    )
+    inter = intersecting(scene, assets)
+    assert set(inter) == {"a", "b"} and inter["a"][0] == "b"
+    assert inter["a"][1] == pytest.approx(0.05, abs=1e-3)
+    assert set(floating(scene, assets)) == {"d"}
+    report = physical_report(scene, assets)
+    assert report["collision_rate"] == pytest.approx(2 / 5)
+    assert report["floating_rate"] == pytest.approx(1 / 5)
+
+
+def test_touching_is_not_colliding_and_a_raised_floor_object_floats():
+    scene, assets = scene_of(
+        ("a", [1.0, 1.0, 0.5], [1, 1, 1], FLOOR),
+        ("b", [2.001, 1.0, 0.5], [1, 1, 1], FLOOR),  # 1 mm apart
+        ("c", [4.0, 3.0, 0.27], [0.5, 0.5, 0.5], FLOOR),  # 2 cm up
+    )
+    assert intersecting(scene, assets) == {}
+    assert set(floating(scene, assets)) == {"c"}
