@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pair2scene.assembly.keep import check_overlaps, keep_assets, merge_keep, read_keep
+from pair2scene.assembly.keep import Kept, load_keep, merge_keep
 from pair2scene.assembly.place import AssemblyConfig, Placer
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
@@ -74,19 +74,22 @@ class Pair2Scene:
         max_objects: int | None = None,
         llm: str = "auto",
         scene_id: str | None = None,
-        keep: str | Path | None = None,
+        keep: str | Path | Kept | None = None,
         settle: bool = False,
     ) -> Generated:
         """One scene for a room type or a description; same arguments, same scene.
 
-        keep : a partial scene.json whose room and objects are kept as they are, the rest
+        keep : a partial scene.json (or one :func:`load_keep` read) whose room and objects
+            are kept as they are, the rest
             filled in around and on them (its room type is used when neither ``room`` nor
             ``text`` is given).
         settle : end with a short MuJoCo simulation of the whole scene
             (:func:`settle_scene`): objects take their resting poses, and any that falls
             or slides is dropped with the reason.
         """
-        partial, keep_notes = (None, []) if keep is None else read_keep(keep)
+        if keep is not None and not isinstance(keep, Kept):
+            keep = load_keep(keep)
+        partial, keep_notes = (None, []) if keep is None else (keep.scene, keep.notes)
         if room is None and text is None:
             if partial is None:
                 raise UserError("give a room type, a description or a partial scene to keep")
@@ -100,8 +103,7 @@ class Pair2Scene:
             room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms)
         else:
             room_obj = partial.room
-            kept_assets = keep_assets(partial)
-            check_overlaps(partial, kept_assets, str(keep))
+            kept_assets = keep.assets
             hierarchy, _ = merge_keep(hierarchy, partial.objects)
         sid = scene_id or f"{hierarchy.room_type}_{seed:04d}"
         placement = self.placer.place(
@@ -224,11 +226,9 @@ def generate_scenes(
     summary = _read_summary(out, request)
     p2s = Pair2Scene.from_pretrained(model)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
-    if keep is not None:
-        partial, _ = read_keep(keep)
-        check_overlaps(partial, keep_assets(partial), str(keep))
-        if room is None and text is None:
-            room = partial.room.type
+    kept = None if keep is None else load_keep(keep)
+    if kept is not None and room is None and text is None:
+        room = kept.scene.room.type
     build_hierarchy(None if room is None else room_key(room), text, mode, max_objects, seed,
                     p2s.stats, llm)  # fmt: skip
     done = {s["id"]: s for s in summary["scenes"]}
@@ -238,7 +238,7 @@ def generate_scenes(
         sid = f"{prefix}_{s:04d}"
         if sid in done and (out / sid / "scene.json").is_file():
             continue
-        result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=keep,
+        result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=kept,
                               settle=settle)  # fmt: skip
         write_scene_folder(out / sid, result.scene, result.assets)
         done[sid] = {"id": sid, **result.stats}

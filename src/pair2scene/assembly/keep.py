@@ -15,7 +15,7 @@ drawers) are not objects to keep and are left out, with a note.
 from __future__ import annotations
 
 import itertools
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +30,23 @@ from pair2scene.scene.model import FLOOR, Scene, SceneObject
 
 RESTING_M = 0.01
 """An object with no support in the file whose bottom is this near the floor stands on it."""
+
+
+@dataclass(frozen=True)
+class Kept:
+    """A partial scene read and checked once: its objects, their assets, the notes."""
+
+    scene: Scene
+    assets: dict[str, Asset]
+    notes: list[str]
+
+
+def load_keep(path: str | Path) -> Kept:
+    """Read the partial scene, build its objects' assets, and refuse intersecting ones."""
+    scene, notes = read_keep(path)
+    assets = keep_assets(scene)
+    check_overlaps(scene, assets, str(path))
+    return Kept(scene, assets, notes)
 
 
 def read_keep(path: str | Path) -> tuple[Scene, list[str]]:
