@@ -21,9 +21,13 @@ def generate_command(
     max_objects: Annotated[
         int | None, typer.Option(help="beyond: objects to reach (default 80); fit: a cap.")
     ] = None,
-    model: Annotated[str, typer.Option(help="default (bundled) or a checkpoint folder.")] = (
-        "default"
-    ),
+    model: Annotated[
+        str,
+        typer.Option(
+            help="default (bundled), a checkpoint folder, or a baseline: random, "
+            "gaussian:PAIRS_DIR (fitted on a 3D-Pairs folder) or gaussian:FILE.json (saved)."
+        ),
+    ] = "default",
     llm: Annotated[str, typer.Option(help="--text: auto, never (offline) or always.")] = "auto",
     keep: Annotated[
         Path | None,
@@ -32,6 +36,13 @@ def generate_command(
     settle: Annotated[
         bool, typer.Option("--settle", help="End with a short MuJoCo settle of the scene.")
     ] = False,
+    ablation: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Switch a placement step off: no-rejection (take each object's first "
+            "candidate) or no-gravity (keep its drawn height); repeatable."
+        ),
+    ] = None,
     threads: Annotated[
         int | None, typer.Option(help="CPU threads for torch (default: all cores, at most 4).")
     ] = None,
@@ -42,7 +53,8 @@ def generate_command(
 
     set_threads(threads)
     summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
-                              progress=not as_json, keep=keep, settle=settle)  # fmt: skip
+                              progress=not as_json, keep=keep, settle=settle,
+                              ablation=ablation)  # fmt: skip
     if as_json:
         typer.echo(json.dumps(summary, indent=1))
         return

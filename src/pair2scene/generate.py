@@ -13,7 +13,8 @@ arguments it skips the scenes already written (resume), and gives the same files
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +33,10 @@ from pair2scene.scene.model import Scene
 
 SUMMARY_FORMAT = "pair2scene.summary"
 SUMMARY_VERSION = 1
+PLACEMENT_MODELS = "default, random, gaussian:PAIRS_DIR, gaussian:FILE.json or a checkpoint folder"
+"""What ``--model`` takes (:func:`load_placement_model`)."""
+ABLATIONS = {"no-rejection": "reject", "no-gravity": "gravity"}
+"""``--ablation`` name -> the :class:`AssemblyConfig` flag it turns off."""
 
 
 @dataclass
@@ -59,11 +64,9 @@ class Pair2Scene:
     def from_pretrained(
         cls, model: str | Path | None = None, config: AssemblyConfig | None = None
     ) -> Pair2Scene:
-        """The bundled model (or a checkpoint folder) with the bundled tables."""
-        from pair2scene.model import from_pretrained
-
-        spec = None if model in (None, "default") else model
-        return cls(from_pretrained(spec), config=config)
+        """A placement model by spec (:func:`load_placement_model`: the bundled one, a
+        checkpoint folder, or a baseline) with the bundled tables."""
+        return cls(load_placement_model(model), config=config)
 
     def generate(
         self,
@@ -136,6 +139,55 @@ class Pair2Scene:
         return Generated(placement.scene, hierarchy, placement.assets, stats)
 
 
+def load_placement_model(spec: str | Path | None = None):
+    """The placement model a ``--model`` spec names; all run through the same placement.
+
+    ``default`` / None: the bundled layout model; ``random``: uniform placement
+    (:class:`~pair2scene.assembly.baselines.RandomPlacement`); ``gaussian:PAIRS_DIR``: the
+    Gaussian baseline (:class:`~pair2scene.assembly.baselines.GaussianPlacement`) fitted
+    on that 3D-Pairs folder's train split (a few seconds), or ``gaussian:FILE.json`` a
+    saved one; otherwise the path of a checkpoint folder (names are looked at first:
+    ``./random`` is a folder).
+    """
+    from pair2scene.assembly.baselines import GaussianPlacement, RandomPlacement
+    from pair2scene.model import from_pretrained
+
+    text = "default" if spec is None else str(spec)
+    if text == "default":
+        return from_pretrained(None)
+    if text == "random":
+        return RandomPlacement()
+    if text == "gaussian" or text.startswith("gaussian:"):
+        source = text.partition(":")[2]
+        if not source:
+            raise UserError(
+                "--model gaussian needs its data: gaussian:PAIRS_DIR (a 3D-Pairs folder to fit "
+                "on) or gaussian:FILE.json (a saved baseline)"
+            )
+        return GaussianPlacement.from_spec(source)
+    if not Path(text).exists():
+        raise UserError(f"--model {text!r}: no such model (use {PLACEMENT_MODELS})")
+    return from_pretrained(Path(text))
+
+
+def ablation_names(ablation: str | Sequence[str] | None) -> list[str]:
+    """The ablations asked for, checked, sorted and without repeats."""
+    names = [ablation] if isinstance(ablation, str) else list(ablation or [])
+    for name in names:
+        if name not in ABLATIONS:
+            raise UserError(f"--ablation {name!r}: unknown (use {' or '.join(ABLATIONS)})")
+    return sorted(set(names))
+
+
+def ablation_config(
+    ablation: str | Sequence[str] | None, config: AssemblyConfig | None = None
+) -> AssemblyConfig:
+    """``config`` (default: :class:`AssemblyConfig`) with the ablations' steps switched off
+    (``no-rejection``: ``reject=False``; ``no-gravity``: ``gravity=False``)."""
+    flags = {ABLATIONS[name]: False for name in ablation_names(ablation)}
+    return replace(config or AssemblyConfig(), **flags)
+
+
 def set_threads(threads: int | None = None) -> None:
     """Torch's CPU threads: ``threads``, or the usable cores up to 4 (the layout model's
     forward passes are small; more threads only add overhead). Run several generate jobs
@@ -203,10 +255,16 @@ def generate_scenes(
     progress: bool = True,
     keep: str | Path | None = None,
     settle: bool = False,
+    ablation: str | Sequence[str] | None = None,
 ) -> dict:
     """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``; returns the
     summary (also written as ``out/summary.json``). Scenes already in ``out`` from an
-    earlier run of the same request are kept, not regenerated."""
+    earlier run of the same request are kept, not regenerated.
+
+    model : a spec of :func:`load_placement_model` (``default``, ``random``,
+        ``gaussian:PAIRS_DIR``, ``gaussian:FILE.json``, a checkpoint folder).
+    ablation : ``no-rejection`` and / or ``no-gravity`` (:func:`ablation_config`).
+    """
     from pair2scene.assembly.export import write_scene_folder
     from pair2scene.progress import track
 
@@ -216,6 +274,7 @@ def generate_scenes(
         raise UserError("give --room, --text or --keep")
     if num < 1:
         raise UserError("--num must be >= 1")
+    ablations = ablation_names(ablation)
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise UserError(f"{out}: exists and is not a folder")
@@ -223,8 +282,10 @@ def generate_scenes(
                "model": str(model), "llm": llm}  # fmt: skip
     if keep is not None or settle:  # (earlier summaries have neither key)
         request.update(keep=None if keep is None else str(keep), settle=settle)
+    if ablations:  # (likewise)
+        request["ablation"] = ablations
     summary = _read_summary(out, request)
-    p2s = Pair2Scene.from_pretrained(model)
+    p2s = Pair2Scene.from_pretrained(model, ablation_config(ablations) if ablations else None)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
     kept = None if keep is None else load_keep(keep)
     if kept is not None and room is None and text is None:

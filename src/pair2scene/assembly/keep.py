@@ -70,14 +70,19 @@ def read_keep(path: str | Path) -> tuple[Scene, list[str]]:
 
 
 def keep_assets(scene: Scene) -> dict[str, Asset]:
-    """Each kept object's procedural asset at its box's size (its style when given)."""
+    """Each object's procedural asset at its box's size: the exact one when its asset
+    reference has the generator's seed (scenes pair2scene wrote), otherwise one of its
+    style (when given) seeded by its id."""
     from pair2scene.assets.registry import generate
 
     out = {}
     for o in scene.objects:
-        style = o.asset.style if o.asset is not None and o.asset.source == "procedural" else None
+        ref = o.asset if o.asset is not None and o.asset.source == "procedural" else None
+        if ref is not None and ref.seed is not None:
+            out[o.id] = generate(o.category, o.box.size, ref.seed)
+            continue
         rng = np.random.default_rng(asset_seed(o.id, 0))
-        out[o.id] = generate(o.category, o.box.size, rng, style=style)
+        out[o.id] = generate(o.category, o.box.size, rng, style=None if ref is None else ref.style)
     return out
 
 

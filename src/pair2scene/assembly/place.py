@@ -22,6 +22,9 @@ ordered largest first (:func:`placement_order`). A candidate a little off its su
 through a wall, or in a shallow collision is nudged (at most ``repair_m`` /
 ``floor_repair_m``) instead of rejected; a floor object near a wall is pushed flush.
 
+Two ablations switch steps off (:class:`AssemblyConfig`): ``reject=False`` takes each
+object's first candidate untested, ``gravity=False`` keeps its drawn height.
+
 Nothing here can loop: every object costs at most one forward pass and a bounded number
 of candidates. Same seed, same model, same hierarchy: the same scene.
 """
@@ -86,6 +89,15 @@ class AssemblyConfig:
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     tolerances: Tolerances = TOLERANCES
+    reject: bool = True
+    """Ablation (``--ablation no-rejection``): False takes each object's first candidate
+    (after the rest step when ``gravity``; left where drawn when nothing carries it) and
+    tests nothing: no room, ceiling, door or collision test, no resamples."""
+    gravity: bool = True
+    """Ablation (``--ablation no-gravity``): False keeps each candidate's drawn height: no
+    drop onto the surface beneath, no nudge onto it, no test that anything carries it. The
+    other tests stay; an object sunk into the floor is rejected (reason ``floor``), one sunk
+    into its support collides with it."""
 
 
 @dataclass
@@ -222,7 +234,9 @@ class Placer:
             if item.support != FLOOR and item.support in assets:
                 fits = surface_fit(assets[item.support])
             size = self.sizes.draw(node.category, rng, fits=fits)
-            assets[node.id] = generate(node.category, size, rng)
+            # An integer seed for the mesh, recorded in scene.json: read back, the scene
+            # rebuilds exactly these shapes (assembly.keep.keep_assets).
+            assets[node.id] = generate(node.category, size, int(rng.integers(2**31)))
         return assets
 
     def place(
@@ -319,6 +333,11 @@ class Placer:
             for index, vec in enumerate(boxes):
                 drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
                 box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's own
+                if not cfg.reject:
+                    box, moved = self._unjudged(box, context)
+                    accepted = (index, box)
+                    stats.repaired += int(moved)
+                    break
                 box, reason, moved = self._settle_candidate(box, context)
                 if reason is not None:
                     own[reason] = own.get(reason, 0) + 1
@@ -345,7 +364,7 @@ class Placer:
             objects.append(
                 SceneObject(
                     node.id, node.category, box,
-                    AssetRef(asset.source, asset.asset_id, asset.style),
+                    AssetRef(asset.source, asset.asset_id, asset.style, asset.extra.get("seed")),
                     support=item.support,
                     functional_anchor=item.functional if item.functional in placed else None,
                 )
@@ -369,6 +388,8 @@ class Placer:
             moved |= shifted
             if rested.top > ctx.room.height - cfg.ceiling_margin_m:
                 return None, "ceiling", moved
+            if not cfg.gravity and rested.bottom < -cfg.tolerances.touch:
+                return None, "floor", moved  # nothing dropped it: it may have sunk
             reason, hits = self._blocked(rested, ctx)
             if reason is None:
                 return rested, None, moved
@@ -388,11 +409,13 @@ class Placer:
         (None, why not); and whether it was nudged."""
         cfg = self.config
         if ctx.support == FLOOR:
-            box = dropped(box, 0.0)
+            box = dropped(box, 0.0) if cfg.gravity else box
             inside = into_room(box, ctx.room.floor_polygon, cfg.floor_repair_m, cfg.wall_snap_m)
             if inside is None:
                 return None, "outside", False
             return inside, None, inside is not box
+        if not cfg.gravity:
+            return box, None, False  # where drawn, carried or not
         sp = ctx.placed[ctx.support]
         rest = rest_on_surfaces(sp.asset, sp.box, box, contact=ctx.contact,
                                 max_shift=cfg.repair_m)  # fmt: skip
@@ -405,6 +428,17 @@ class Placer:
             center[:2] += shift
             box = OrientedBox(center, box.size, box.rotation)
         return box, None, bool(shift.any())
+
+    def _unjudged(self, box: OrientedBox, ctx: _Context) -> tuple[OrientedBox, bool]:
+        """The no-rejection ablation's object: at rest (nudged) when gravity is on and
+        something carries it, else where drawn (a floor object on the floor when gravity
+        is on); and whether it was nudged. Nothing is tested against the room or others."""
+        if not self.config.gravity:
+            return box, False
+        rested, _, shifted = self._rest(box, ctx)
+        if rested is not None:
+            return rested, shifted
+        return (dropped(box, 0.0) if ctx.support == FLOOR else box), False
 
     def _repair(self, ctx: _Context) -> float:
         return self.config.floor_repair_m if ctx.support == FLOOR else self.config.repair_m

@@ -99,8 +99,9 @@ def generate(
     """A procedural asset of ``category`` filling a box of ``size`` (3,) metres.
 
     rng : a numpy Generator or a seed; draws the style (when not given) and the
-    generator's own variation. Same seed, same asset. Unknown categories (and
-    ``unknown``) get a labelled box (``asset.source == "box"``).
+    generator's own variation. Same seed, same asset; an integer seed is kept in
+    ``asset.extra["seed"]`` (scene.json records it to rebuild the asset exactly).
+    Unknown categories (and ``unknown``) get a labelled box (``asset.source == "box"``).
     """
     size = np.maximum(np.asarray(size, dtype=float).reshape(3), MIN_SIZE_M)
     if not np.all(np.isfinite(size)):
@@ -110,6 +111,7 @@ def generate(
         if category != UNKNOWN and category not in BY_NAME:
             raise UserError(f"unknown category {category!r}")
         return fallback_box(category, size)
+    extra = {"seed": int(rng)} if isinstance(rng, (int, np.integer)) else {}
     rng = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
     if style is None:
         style = int(rng.integers(gen.variants))
@@ -121,4 +123,4 @@ def generate(
     parts = gen.fn(size.copy(), rng, style, heights)
     if not parts:
         raise RuntimeError(f"generator for {category!r} returned no parts")
-    return Asset(category, size, tuple(fit_to_box(parts, size)), style=style)
+    return Asset(category, size, tuple(fit_to_box(parts, size)), style=style, extra=extra)

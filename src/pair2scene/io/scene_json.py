@@ -237,7 +237,10 @@ def _asset(c: _Check, d: Any, field: str) -> AssetRef | None:
     style = d.get("style")
     if style is not None and (isinstance(style, bool) or not isinstance(style, int)):
         raise c.fail(f"{field}.style", f"must be an integer or null, got {_kind(style)}")
-    return AssetRef(source, aid, style)
+    seed = d.get("seed")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise c.fail(f"{field}.seed", f"must be a non-negative integer or null, got {seed!r}")
+    return AssetRef(source, aid, style, seed)
 
 
 def _object(c: _Check, d: Any, field: str) -> SceneObject:

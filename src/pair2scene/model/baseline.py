@@ -30,6 +30,11 @@ lower-dimensional set and an unregularised Gaussian collapses (NLL -> -inf). ``r
 nats an exactly predictable number is worth; its default matches the learned model's
 floor (see :data:`DEFAULT_REG`), so that the two are scored on the same footing.
 
+:meth:`GaussianBaseline.sample_arrays` draws from that same interpolated density (one
+mixture per key, :meth:`~GaussianBaseline.mixture_for`), conditioned on the dependent's
+size as the learned model's samples are (``GaussianPlacement`` in
+:mod:`pair2scene.assembly.baselines` places scenes with it).
+
 The model does no file I/O except :meth:`GaussianBaseline.save` / :meth:`load`, a JSON
 document (no pickle) whose floats round-trip exactly.
 """
@@ -50,7 +55,13 @@ from scipy.special import logsumexp
 from pair2scene.curation.dataset import PairsDataset
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
-from pair2scene.model.scoring import BOX_DIM, SIZE_DIMS, log_prob_from_log_size, to_log_size
+from pair2scene.model.scoring import (
+    BOX_DIM,
+    SIZE_DIMS,
+    SIZE_FLOOR,
+    log_prob_from_log_size,
+    to_log_size,
+)
 
 BASELINE_FORMAT = "pair2scene.gaussian_baseline"
 BASELINE_VERSION = 1
@@ -191,6 +202,53 @@ class GaussianMixture:
         """x (N, D) -> (N,) log density in nats."""
         return logsumexp(self.component_log_prob(x), axis=1)
 
+    def sample(self, n: int, rng: np.random.Generator, temperature: float = 1.0) -> np.ndarray:
+        """``n`` draws (n, D). The temperature T acts as in the learned model's sampler
+        (:func:`pair2scene.model.mixture.sample`), so the two are compared at the same
+        setting: components are drawn with weights proportional to w^(1/T) and every
+        covariance is scaled by T^2; T = 0 gives the heaviest component's mean."""
+        if not (math.isfinite(temperature) and temperature >= 0):
+            raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
+        if n < 1:
+            raise ValueError(f"n must be >= 1, got {n}")
+        if temperature == 0:
+            return np.repeat(self.means[int(np.argmax(self.weights))][None], n, axis=0)
+        logits = self._log_w / temperature  # w^(1/T), unnormalised
+        p = np.exp(logits - logits.max())
+        comp = rng.choice(self.n_components, size=n, p=p / p.sum())
+        z = rng.standard_normal((n, self.means.shape[1]))
+        if self.full:
+            noise = np.einsum("nij,nj->ni", self._chol[comp], z)
+        else:
+            noise = self._chol[comp] * z
+        return self.means[comp] + temperature * noise
+
+    def condition(self, dims: Sequence[int], values: np.ndarray) -> GaussianMixture:
+        """The mixture over the other dims (in order) given ``x[dims] = values`` (exact).
+
+        Each component is reweighted by how well it explains the values (its marginal
+        density there) and replaced by its Gaussian conditional: for a full covariance
+        the mean moves by ``S_fg S_gg^-1 (values - mu_g)`` and the covariance becomes the
+        Schur complement (never below ``reg``: the floor is independent noise); for a
+        diagonal one the other dims are independent of the given ones and keep theirs.
+        """
+        dims = list(dims)
+        free = [d for d in range(self.means.shape[1]) if d not in dims]
+        v = np.asarray(values, dtype=np.float64).reshape(len(dims))
+        log_fit = self.marginal(dims).component_log_prob(v[None])[0]  # includes log w
+        weights = np.exp(log_fit - logsumexp(log_fit))
+        if self.full:
+            cov = self.covariances
+            s_gg = cov[:, dims][:, :, dims]
+            s_fg = cov[:, free][:, :, dims]
+            gain = np.linalg.solve(s_gg, s_fg.transpose(0, 2, 1)).transpose(0, 2, 1)
+            means = self.means[:, free] + np.einsum("kfg,kg->kf", gain, v - self.means[:, dims])
+            new_cov = cov[:, free][:, :, free] - gain @ s_fg.transpose(0, 2, 1)
+            new_cov = 0.5 * (new_cov + new_cov.transpose(0, 2, 1))
+        else:
+            means, new_cov = self.means[:, free], self.covariances[:, free]
+        return GaussianMixture(weights, means, new_cov, self.count)
+
     def marginal(self, dims: Sequence[int]) -> GaussianMixture:
         """The mixture's marginal over ``dims`` (same weights, the sub-means and
         sub-covariances)."""
@@ -316,6 +374,15 @@ def level_keys(
     }
 
 
+def _stored(y: np.ndarray, log_size: bool) -> np.ndarray:
+    """Draws in the fitted space -> stored vectors (sizes back from their log)."""
+    if not log_size:
+        return y
+    out = np.array(y, dtype=np.float64)
+    out[:, list(SIZE_DIMS)] = np.exp(out[:, list(SIZE_DIMS)])
+    return out
+
+
 def _names(categories: Sequence[str], index: np.ndarray) -> list[str]:
     return [categories[i] if i >= 0 else "" for i in index.tolist()]
 
@@ -406,6 +473,63 @@ class GaussianBaseline:
                     level[i], chosen[i] = j, keys[name][i]
                     break
         return level, chosen
+
+    def mixture_for(self, dependent: str, support: str, functional: str = "") -> GaussianMixture:
+        """One key's density as a single mixture, in the fitted space (log sizes when
+        ``config.log_size``): the components of every fitted level of the key, weighted as
+        :meth:`log_prob_arrays` interpolates them, so sampling draws from the very density
+        that is scored (``functional`` "": no functional anchor)."""
+        keys = level_keys([dependent], [support], [functional])
+        lam = self.config.smoothing
+        parts: list[tuple[float, GaussianMixture]] = []
+        for level in reversed(LEVELS):
+            mix = self.mixtures[level].get(keys[level][0])
+            if mix is None:
+                continue
+            if level == "global" or lam == 0.0:
+                parts = [(1.0, mix)]
+            else:
+                parts = [(1.0 - lam, mix)] + [(lam * w, m) for w, m in parts]
+        if not parts:
+            raise ValueError("the baseline has no global mixture")
+        return GaussianMixture(
+            np.concatenate([w * m.weights for w, m in parts]),
+            np.concatenate([m.means for _, m in parts]),
+            np.concatenate([m.covariances for _, m in parts]),
+            parts[0][1].count,
+        )
+
+    def sample_arrays(
+        self,
+        dependent: str,
+        support: str,
+        functional: str,
+        n: int,
+        rng: np.random.Generator,
+        size: Sequence[float] | None = None,
+        temperature: float = 1.0,
+        mixture: GaussianMixture | None = None,
+    ) -> np.ndarray:
+        """``n`` canonical boxes (n, 12) of one key, as the dataset stores them (centre,
+        size, 6D; the 6D part as drawn, not orthonormalised).
+
+        size : (3,) the dependent's canonical size (its size over the support's
+            half-size): the mixture is conditioned on it (:meth:`GaussianMixture.condition`,
+            in log size when ``config.log_size``) and every draw has exactly this size,
+            as the learned model's samples do.
+        mixture : :meth:`mixture_for` of the key, when the caller keeps it.
+        """
+        mix = self.mixture_for(dependent, support, functional) if mixture is None else mixture
+        if size is None:
+            y = mix.sample(n, rng, temperature)
+            return _stored(y, self.config.log_size)
+        given = np.asarray(size, dtype=np.float64).reshape(3)
+        g = np.log(np.maximum(given, SIZE_FLOOR)) if self.config.log_size else given
+        free = [d for d in range(BOX_DIM) if d not in SIZE_DIMS]
+        out = np.empty((n, BOX_DIM))
+        out[:, free] = mix.condition(SIZE_DIMS, g).sample(n, rng, temperature)
+        out[:, list(SIZE_DIMS)] = given
+        return out
 
     def level_counts(self, data: PairsDataset) -> dict[str, int]:
         """How many tuples of ``data`` each back-off level scores."""

@@ -24,9 +24,16 @@ class AssetRef:
     """The source's asset id (AI2-THOR assetId, 3D-FUTURE jid...)."""
     style: int | None = None
     """Variant index for procedural assets."""
+    seed: int | None = None
+    """Seed of a procedural asset's generator (``pair2scene.assets.registry.generate``):
+    with the category and the box's size it rebuilds the exact mesh the scene was made
+    with, so a scene.json read back is evaluated on the shapes that were placed."""
 
     def to_dict(self) -> dict:
-        return {"source": self.source, "id": self.id, "style": self.style}
+        out = {"source": self.source, "id": self.id, "style": self.style}
+        if self.seed is not None:  # (older files have no seed)
+            out["seed"] = self.seed
+        return out
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,166 @@
+"""Placement models without the learned network, for baselines: same interface, same path.
+
+Both classes answer :meth:`pair2scene.model.api.LayoutModel.sample`'s call,
+``sample(query, n, temperature, generator) -> (n, 12)`` world box vectors (centre, size,
+6D), so :class:`~pair2scene.assembly.place.Placer` runs them through the very rejection
+sampling and gravity the learned model gets; only where the candidates come from differs.
+
+* :class:`GaussianPlacement`: the per-pair Gaussian baseline
+  (:class:`~pair2scene.model.baseline.GaussianBaseline`) as a sampler: its mixture for the
+  query's category key, conditioned on the dependent's size, drawn in the support's
+  canonical frame and mapped back to the world.
+* :class:`RandomPlacement`: nothing learned: anywhere in the room (floor objects) or over
+  the support's footprint (supported ones), at any yaw.
+
+Each call seeds a numpy generator with one integer drawn from the torch ``generator``, so
+the placer's seed decides every draw (same seed, same scene) and successive objects of a
+scene draw different numbers.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from pair2scene.errors import UserError
+from pair2scene.model.api import PlacementQuery
+from pair2scene.model.baseline import GaussianBaseline, GaussianConfig, GaussianMixture
+from pair2scene.scene.geometry import OrientedBox
+
+_EPS = 1e-9
+"""The floor :meth:`OrientedBox.in_frame_of` puts under a support's half-size."""
+
+
+def numpy_rng(generator: torch.Generator | None) -> np.random.Generator:
+    """A numpy generator seeded by one draw from ``generator`` (torch's global one when
+    None), so that the torch seed of a placement decides the baselines' draws too."""
+    seed = int(torch.randint(0, 2**62, (1,), generator=generator))
+    return np.random.default_rng(seed)
+
+
+def canonical_to_world(canonical: np.ndarray, support: OrientedBox) -> np.ndarray:
+    """Canonical box vectors (..., 12) in ``support``'s frame (as 3D-Pairs stores them,
+    :meth:`OrientedBox.in_frame_of`) -> world vectors (..., 12), the 6D part
+    orthonormalised."""
+    x = np.asarray(canonical, dtype=np.float64)
+    half = np.maximum(support.half_size, _EPS)
+    rot = support.rotation
+    center = (x[..., 0:3] * half) @ rot.T + support.center
+    size = x[..., 3:6] * half
+    c0 = _unit(x[..., 6:9] @ rot.T)
+    c1 = x[..., 9:12] @ rot.T
+    c1 = _unit(c1 - (c0 * c1).sum(-1, keepdims=True) * c0)
+    return np.concatenate([center, size, c0, c1], axis=-1)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), _EPS)
+
+
+class GaussianPlacement:
+    """The Gaussian baseline as a placement model (see the module docstring).
+
+    The temperature acts as in the learned model's sampler: component weights to the power
+    1/T, covariances times T^2 (:meth:`GaussianMixture.sample`).
+    """
+
+    def __init__(self, baseline: GaussianBaseline) -> None:
+        self.baseline = baseline
+        self._mixtures: dict[tuple[str, str, str], GaussianMixture] = {}
+
+    @classmethod
+    def from_spec(cls, path: str | Path, config: GaussianConfig | None = None):
+        """A saved baseline JSON (:meth:`GaussianBaseline.save`), or a 3D-Pairs folder to fit
+        one on (its train split; a few seconds)."""
+        from pair2scene.curation.dataset import load_pairs
+
+        path = Path(path)
+        if path.is_dir():
+            return cls(GaussianBaseline.fit(load_pairs(path), "train", config))
+        if not path.exists():
+            raise UserError(f"{path}: no such file or folder (a 3D-Pairs folder or a baseline)")
+        return cls(GaussianBaseline.load(path))
+
+    def sample(
+        self,
+        query: PlacementQuery,
+        n: int = 256,
+        temperature: float = 1.0,
+        generator: torch.Generator | None = None,
+        keep_size: bool = True,
+    ) -> np.ndarray:
+        """``n`` candidate world boxes (n, 12) for one query; ``keep_size`` conditions on
+        the query's size (every candidate has it), False draws the size too."""
+        sup = query.support.box
+        key = (
+            query.category,
+            query.support.category,
+            "" if query.functional is None else query.functional.category,
+        )
+        mix = self._mixtures.get(key)
+        if mix is None:
+            mix = self._mixtures[key] = self.baseline.mixture_for(*key)
+        size = None
+        if keep_size:
+            size = np.asarray(query.size, dtype=np.float64) / np.maximum(sup.half_size, _EPS)
+        rng = numpy_rng(generator)
+        canonical = self.baseline.sample_arrays(*key, n, rng, size, temperature, mixture=mix)
+        out = canonical_to_world(canonical, sup)
+        if keep_size:  # exactly the asset's size, not half * (size / half)
+            out[:, 3:6] = np.asarray(query.size, dtype=np.float64)
+        return out
+
+
+class RandomPlacement:
+    """Uniform placement, nothing learned: the baseline that shows what the rules and the
+    rejection sampling alone give.
+
+    Floor objects: centre uniform over the room's bounds (narrowed by the drawn footprint's
+    extent, so candidates are not wasted on walls), standing on the floor. Supported
+    objects: centre uniform over the support box's footprint, the bottom at a uniform height
+    between the support's bottom and top: the placer drops each onto the surface nearest
+    below it, so every tier of a shelf gets objects, a table only its top. Yaw uniform in
+    [0, 2 pi) (the placer snaps one near the walls' or the support's axes onto them, as
+    it does the learned model's). The temperature is ignored.
+    """
+
+    def sample(
+        self,
+        query: PlacementQuery,
+        n: int = 256,
+        temperature: float = 1.0,
+        generator: torch.Generator | None = None,
+    ) -> np.ndarray:
+        """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query."""
+        del temperature  # nothing to sharpen
+        rng = numpy_rng(generator)
+        size = np.asarray(query.size, dtype=np.float64)
+        sup = query.support.box
+        yaw = rng.uniform(0.0, 2 * np.pi, n)
+        cos, sin = np.cos(yaw), np.sin(yaw)
+        u = rng.uniform(-1.0, 1.0, (n, 2))
+        h = rng.uniform(0.0, 1.0, n)
+        center = np.empty((n, 3))
+        if query.support.is_floor:
+            # half extent of each drawn footprint along x and y (the room is axis-aligned)
+            ext = 0.5 * np.stack(
+                [np.abs(cos) * size[0] + np.abs(sin) * size[1],
+                 np.abs(sin) * size[0] + np.abs(cos) * size[1]], axis=1
+            )  # fmt: skip
+            room_half = sup.half_size[:2]
+            span = np.maximum(room_half - ext, 0.0)
+            center[:, :2] = sup.center[:2] + u * span
+            center[:, 2] = sup.center[2] - sup.half_size[2] + size[2] / 2
+            rot_cols = np.stack([cos, sin, np.zeros(n), -sin, cos, np.zeros(n)], axis=1)
+        else:
+            half = sup.half_size
+            local = np.column_stack([u * half[:2], -half[2] + h * 2 * half[2]])
+            center = local @ sup.rotation.T + sup.center
+            center[:, 2] += size[2] / 2  # ``local`` is where the bottom goes
+            # yaw about the support's up axis, in the support's frame
+            c0 = np.stack([cos, sin, np.zeros(n)], axis=1) @ sup.rotation.T
+            c1 = np.stack([-sin, cos, np.zeros(n)], axis=1) @ sup.rotation.T
+            rot_cols = np.concatenate([c0, c1], axis=1)
+        return np.concatenate([center, np.broadcast_to(size, (n, 3)), rot_cols], axis=1)
