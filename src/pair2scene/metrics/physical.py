@@ -6,6 +6,10 @@
 - :func:`floating` names the objects that do not rest on anything: lowered by ``gap``
   (1 cm), an object on the floor must reach z = 0 and one on a support must touch the
   support's mesh. The **floating rate** is their share.
+- :func:`stability` simulates the scene as it is for 2 s under gravity (MuJoCo, the
+  curation's physics with no depenetration phase and no fitting: nothing is helped) and
+  measures how far each object's box corners moved; **stability** is the share of the
+  simulated objects that moved less than 2 cm.
 
 Both take the scene and the assets its objects were built from (a generated scene's own
 assets; for a scene.json read back, :func:`pair2scene.curation.physics.scene_assets`).
@@ -26,6 +30,10 @@ COLLISION_DEPTH_M = 0.005
 placement allows and the numerical noise of fcl's convex tests."""
 FLOAT_GAP_M = 0.01
 """An object farther than this above what carries it is floating."""
+STABLE_MOTION_M = 0.02
+"""An object whose box corners all move less than this in the simulation is stable."""
+STABILITY_SECONDS = 2.0
+"""Simulated time under gravity for :func:`stability`."""
 
 
 def _shapes(scene: Scene, assets: dict[str, Asset], lift: float = 0.0) -> dict[str, Shape]:
@@ -85,15 +93,45 @@ def floating(scene: Scene, assets: dict[str, Asset], gap: float = FLOAT_GAP_M) -
     return out
 
 
-def physical_report(scene: Scene, assets: dict[str, Asset]) -> dict:
-    """``{"objects", "collision_rate", "floating_rate", "intersecting", "floating"}``."""
+def stability(
+    scene: Scene, assets: dict[str, Asset], seconds: float = STABILITY_SECONDS
+) -> tuple[dict[str, float], list[str]]:
+    """(object id -> largest box-corner displacement (m) after ``seconds`` under gravity,
+    for every simulated object; notes). Objects the physics fixes to the world (mounted
+    ones) are not in the result. An unstable simulation gives no motions and a note."""
+    from pair2scene.curation.physics import PhysicsConfig, validate_physics
+
+    config = PhysicsConfig(fit_heights=False, depenetration_seconds=0.0, settle_seconds=seconds)
+    outcome = validate_physics(scene, config=config, assets=assets)
+    by_id = scene.by_id()
+    motion = {}
+    for oid, box in outcome.settled.items():
+        moved = np.linalg.norm(box.corners() - by_id[oid].box.corners(), axis=-1)
+        motion[oid] = float(moved.max())
+    return motion, list(outcome.notes)
+
+
+def physical_report(scene: Scene, assets: dict[str, Asset], simulate: bool = True) -> dict:
+    """``{"objects", "collision_rate", "floating_rate", "intersecting", "floating"}``, and
+    with ``simulate`` also ``"stability"`` (None when the simulation failed),
+    ``"simulated"``, ``"unstable"`` (id -> metres moved) and ``"notes"``."""
     n = len(scene.objects)
     inter = intersecting(scene, assets)
     flo = floating(scene, assets)
-    return {
+    out = {
         "objects": n,
         "collision_rate": len(inter) / n if n else 0.0,
         "floating_rate": len(flo) / n if n else 0.0,
         "intersecting": {k: [v[0], round(v[1], 4)] for k, v in inter.items()},
         "floating": flo,
     }
+    if simulate:
+        motion, notes = stability(scene, assets)
+        moved = {k: round(v, 4) for k, v in motion.items() if v >= STABLE_MOTION_M}
+        failed = any(t.startswith(("could not build", "simulation unstable")) for t in notes)
+        share = 1.0 - len(moved) / len(motion) if motion else 1.0
+        out["stability"] = None if failed else share
+        out["simulated"] = len(motion)
+        out["unstable"] = moved
+        out["notes"] = notes
+    return out
