@@ -14,6 +14,7 @@ import typer
 
 from pair2scene.cli_assets import assets_app
 from pair2scene.cli_curate import curate
+from pair2scene.cli_evaluate import evaluate_command
 from pair2scene.cli_generate import generate_command
 from pair2scene.cli_hierarchy import hierarchy_command
 from pair2scene.cli_model import pretrain_command, score_command, train_command
@@ -36,11 +37,14 @@ app.command("train")(train_command)
 app.command("score")(score_command)
 app.command("hierarchy")(hierarchy_command)
 app.command("generate")(generate_command)
+app.command("evaluate")(evaluate_command)
 
 
 @data_app.command("fetch")
 def data_fetch(
-    source: Annotated[str, typer.Argument(help="What to fetch: ai2thor.")],
+    source: Annotated[
+        str, typer.Argument(help="What to fetch: ai2thor, or inception (FID weights).")
+    ],
     force: Annotated[bool, typer.Option(help="Download again even when cached.")] = False,
 ) -> None:
     """Download a source into the cache ($PAIR2SCENE_CACHE, default ~/.cache/pair2scene)."""

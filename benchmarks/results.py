@@ -1,0 +1,179 @@
+"""docs/results.md: every method and baseline, generated and evaluated by one harness.
+
+Run from the repository root, with ``../shared`` beside it (the ProcTHOR val rooms are part
+of the reference)::
+
+    python benchmarks/results.py --pairs PAIRS --variants VARIANTS [--scenes 30]
+        [--rooms bedroom living_room kitchen] [--work WORK] [--jobs 2] [--no-write]
+
+PAIRS is a ``pair2scene curate`` folder (the Gaussian baseline is fitted on its train
+split); VARIANTS holds ``class-only``, ``no-pretrain`` and ``global`` checkpoints from
+``pair2scene train --variant ...`` (a missing one is skipped and named in the doc).
+
+For every method and room type the script runs ``pair2scene generate`` (seeds 0 ..
+scenes-1, ``--threads 1``, ``--jobs`` commands side by side) and ``pair2scene evaluate``
+against the AI2-THOR val rooms and the ProcTHOR-1k val rooms of that type, both resumable
+(WORK keeps the scenes and reports: a second run only does what is missing). The tables
+replace docs/results.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+from _docs import machine
+
+ROOT = Path(__file__).resolve().parents[1]
+DOC = ROOT / "docs" / "results.md"
+PROCTHOR_VAL = ROOT.parent / "shared" / "data" / "procthor-1k" / "val.jsonl.gz"
+ROOMS = ("bedroom", "living_room", "kitchen")
+
+
+def methods(pairs: Path, variants: Path) -> dict[str, tuple[list[str], str]]:
+    """name -> (generate arguments, what it is)."""
+    out = {
+        "ours (fit)": ([], "the method, bundled model, `--mode fit`"),
+        "ours (beyond)": (["--mode", "beyond"], "the method, `--mode beyond` (80 objects)"),
+        "random": (["--model", "random"], "uniform positions and yaws, same rejection and gravity"),
+        "gaussian": (["--model", f"gaussian:{pairs}"], "per-pair Gaussian mixtures (issue 5)"),
+    }
+    for v in ("class-only", "no-pretrain", "global"):
+        out[v] = (["--model", str(variants / v)], f"model variant `{v}`")
+    out["no rejection"] = (["--ablation", "no-rejection"], "ours, first candidate accepted")
+    out["no gravity"] = (["--ablation", "no-gravity"], "ours, predicted heights kept")
+    return out
+
+
+def slug(name: str) -> str:
+    return "".join(c if c.isalnum() else "-" for c in name).strip("-").replace("--", "-")
+
+
+def run(cmd: list[str], log: Path) -> int:
+    with open(log, "a", encoding="utf-8") as fh:
+        fh.write(" ".join(cmd) + "\n")
+        fh.flush()
+        return subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT).returncode
+
+
+def cell(name: str, args: list[str], room: str, a: argparse.Namespace) -> dict | None:
+    """Generate and evaluate one method on one room type; the report, or None."""
+    folder = a.work / slug(name) / room
+    folder.mkdir(parents=True, exist_ok=True)
+    log = folder.parent / f"{room}.log"
+    report = folder.parent / f"{room}.report.json"
+    exe = [sys.executable, "-m", "pair2scene"]
+    if not report.is_file():
+        gen = [*exe, "generate", "--room", room, "--num", str(a.scenes), "--threads", "1",
+               "--out", str(folder), "--json", *args]  # fmt: skip
+        if run(gen, log) != 0:
+            print(f"{name} / {room}: generate failed, see {log}", file=sys.stderr)
+            return None
+        ref = ["--reference", "ai2thor:val", "--reference", f"procthor:{PROCTHOR_VAL}"]
+        ev = [*exe, "evaluate", "--scenes", str(folder), *ref, "--out", str(report), "--json",
+              "--threads", "1"]  # fmt: skip
+        if run(ev, log) != 0:
+            print(f"{name} / {room}: evaluate failed, see {log}", file=sys.stderr)
+            return None
+    print(f"{name} / {room}: done", file=sys.stderr)
+    return json.loads(report.read_text(encoding="utf-8"))
+
+
+COLUMNS = (
+    ("collision_rate", "coll.", "{:.3f}"), ("floating_rate", "float.", "{:.3f}"),
+    ("stability", "stab.", "{:.3f}"), ("acceptance_rate", "accept.", "{:.2f}"),
+    ("resamples_per_object", "resampl.", "{:.2f}"), ("objects_per_scene", "objects", "{:.1f}"),
+    ("seconds_per_scene", "s/scene", "{:.2f}"), ("category_kl", "KL", "{:.3f}"),
+    ("pose_mmd", "pose MMD", "{:.3f}"), ("sca", "SCA", "{:.3f}"), ("fid", "FID", "{:.1f}"),
+    ("kid", "KID x1e-3", "{:.1f}"),
+)  # fmt: skip
+
+
+def table(rows: dict[str, dict | None]) -> list[str]:
+    head = "| method | " + " | ".join(c[1] for c in COLUMNS) + " |"
+    lines = [head, "|" + "---|" * (len(COLUMNS) + 1)]
+    for name, rep in rows.items():
+        if rep is None:
+            lines.append(f"| {name} | " + " | ".join("n/a" for _ in COLUMNS) + " |")
+            continue
+        vals = [("-" if rep.get(k) is None else f.format(rep[k])) for k, _, f in COLUMNS]
+        lines.append(f"| {name} | " + " | ".join(vals) + " |")
+    return lines
+
+
+def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: list[str]) -> None:
+    from pair2scene.io.atomic import atomic_write_text
+
+    lines = [
+        "# Results",
+        "",
+        f"`python benchmarks/results.py --pairs PAIRS --variants VARIANTS --scenes {a.scenes}` "
+        f"on {machine()}, {dt.date.today().isoformat()}. Each cell: {a.scenes} generated rooms "
+        "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
+        "the ProcTHOR-1k val rooms of the same type.",
+        "",
+        "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
+        "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "
+        "higher is better), acceptance rate and resamples per object (placement), objects and "
+        "seconds per scene (2 CPU cores, one scene at a time per process, two processes side "
+        "by side), category KL(reference || generated) (ATISS; lower is better), pose MMD "
+        "(squared MMD of relative poses over the 10 most frequent anchor/dependent pairs; "
+        "0 best, 2 worst), SCA (a CNN telling real from generated top views; 0.5 is ideal), "
+        "FID and KID on 256 x 256 semantic top views (DiffuScene protocol; lower is better).",
+        "",
+        "Methods: " + "; ".join(f"**{k}**: {v}" for k, v in described.items()) + ".",
+        "",
+    ]
+    if skipped:
+        lines += [f"Not run (checkpoint missing): {', '.join(skipped)}.", ""]
+    for room in a.rooms:
+        rows = {name: results.get((name, room)) for name in described}
+        n_ref = next((r["n_reference"] for r in rows.values() if r), None)
+        lines += [f"## {room.replace('_', ' ').capitalize()}s", ""]
+        if n_ref is not None:
+            lines += [f"Reference: {n_ref} real rooms.", ""]
+        lines += table(rows) + [""]
+    atomic_write_text(DOC, "\n".join(lines).rstrip() + "\n")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--pairs", type=Path, required=True)
+    ap.add_argument("--variants", type=Path, required=True)
+    ap.add_argument("--scenes", type=int, default=30)
+    ap.add_argument("--rooms", nargs="+", default=list(ROOMS))
+    ap.add_argument("--methods", nargs="+", default=None, help="names to run (default: all)")
+    ap.add_argument("--work", type=Path, default=Path("/tmp/p2s-results"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--no-write", action="store_true")
+    a = ap.parse_args()
+
+    every = methods(a.pairs, a.variants)
+    chosen = {k: v for k, v in every.items() if a.methods is None or k in a.methods}
+    skipped = [k for k in ("class-only", "no-pretrain", "global")
+               if k in chosen and not (a.variants / k / "config.json").is_file()]  # fmt: skip
+    for k in skipped:
+        chosen.pop(k)
+    jobs = [(name, args, room) for room in a.rooms for name, (args, _) in chosen.items()]
+    results: dict[tuple[str, str], dict | None] = {}
+    with ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        futures = {pool.submit(cell, n, args, room, a): (n, room) for n, args, room in jobs}
+        for fut, key in futures.items():
+            results[key] = fut.result()
+    described = {k: v[1] for k, v in chosen.items()}
+    for room in a.rooms:
+        print(f"\n{room}")
+        print("\n".join(table({n: results.get((n, room)) for n in described})))
+    if not a.no_write:
+        write_doc(results, described, a, skipped)
+        print(f"\nwrote {DOC}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
