@@ -4,11 +4,13 @@ Run from the repository root, with ``../shared`` beside it (the ProcTHOR val roo
 of the reference)::
 
     python benchmarks/results.py --pairs PAIRS --variants VARIANTS [--scenes 30]
-        [--rooms bedroom living_room kitchen] [--work WORK] [--jobs 2] [--no-write]
+        [--rooms bedroom living_room kitchen] [--work WORK] [--jobs 2] [--train-missing]
+        [--no-write]
 
 PAIRS is a ``pair2scene curate`` folder (the Gaussian baseline is fitted on its train
 split); VARIANTS holds ``class-only``, ``no-pretrain`` and ``global`` checkpoints from
-``pair2scene train --variant ...`` (a missing one is skipped and named in the doc).
+``pair2scene train --variant ...`` (``--train-missing`` trains a missing one first;
+otherwise it is skipped and named in the doc).
 
 For every method and room type the script runs ``pair2scene generate`` (seeds 0 ..
 scenes-1, ``--threads 1``, ``--jobs`` commands side by side) and ``pair2scene evaluate``
@@ -33,6 +35,8 @@ ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "results.md"
 PROCTHOR_VAL = ROOT.parent / "shared" / "data" / "procthor-1k" / "val.jsonl.gz"
 ROOMS = ("bedroom", "living_room", "kitchen")
+DISCUSSION = "## Discussion"
+VARIANTS = ("class-only", "no-pretrain", "global")
 
 
 def methods(pairs: Path, variants: Path) -> dict[str, tuple[list[str], str]]:
@@ -43,7 +47,7 @@ def methods(pairs: Path, variants: Path) -> dict[str, tuple[list[str], str]]:
         "random": (["--model", "random"], "uniform positions and yaws, same rejection and gravity"),
         "gaussian": (["--model", f"gaussian:{pairs}"], "per-pair Gaussian mixtures (issue 5)"),
     }
-    for v in ("class-only", "no-pretrain", "global"):
+    for v in VARIANTS:
         out[v] = (["--model", str(variants / v)], f"model variant `{v}`")
     out["no rejection"] = (["--ablation", "no-rejection"], "ours, first candidate accepted")
     out["no gravity"] = (["--ablation", "no-gravity"], "ours, predicted heights kept")
@@ -138,6 +142,11 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         if n_ref is not None:
             lines += [f"Reference: {n_ref} real rooms.", ""]
         lines += table(rows) + [""]
+    # The hand-written discussion (what the figures mean) survives a rerun.
+    old = DOC.read_text(encoding="utf-8") if DOC.exists() else ""
+    at = old.find(DISCUSSION)
+    if at >= 0:
+        lines += [old[at:].rstrip()]
     atomic_write_text(DOC, "\n".join(lines).rstrip() + "\n")
 
 
@@ -150,12 +159,20 @@ def main() -> int:
     ap.add_argument("--methods", nargs="+", default=None, help="names to run (default: all)")
     ap.add_argument("--work", type=Path, default=Path("/tmp/p2s-results"))
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--train-missing", action="store_true",
+                    help="train a missing variant first (cpu preset, ~15-45 min each)")  # fmt: skip
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args()
 
     every = methods(a.pairs, a.variants)
     chosen = {k: v for k, v in every.items() if a.methods is None or k in a.methods}
-    skipped = [k for k in ("class-only", "no-pretrain", "global")
+    for k in VARIANTS:
+        if k in chosen and a.train_missing and not (a.variants / k / "config.json").is_file():
+            cmd = [sys.executable, "-m", "pair2scene", "train", "--data", str(a.pairs),
+                   "--out", str(a.variants / k), "--variant", k]  # fmt: skip
+            print(" ".join(cmd), file=sys.stderr)
+            subprocess.run(cmd, check=False)
+    skipped = [k for k in VARIANTS
                if k in chosen and not (a.variants / k / "config.json").is_file()]  # fmt: skip
     for k in skipped:
         chosen.pop(k)

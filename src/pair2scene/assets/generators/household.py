@@ -1063,7 +1063,10 @@ def alarm_clock(size, rng, style, support_heights):
         start = np.array([sgn * 0.7 * big_r * np.sin(a), yc, zc - 0.7 * big_r * np.cos(a)])
         end = np.array([sgn * 1.15 * big_r * np.sin(a), yc, -hz + 0.1 * big_r])
         parts.append(Part(f"leg_{i}", _rod(start, end, 0.07 * big_r)))
-        parts.append(Part(f"foot_{i}", _ell(end, (0.12 * big_r, 0.12 * big_r, 0.1 * big_r))))
+        # flat pads, deep along y: two round feet touch at two points on a line and the
+        # clock tips over (measured in MuJoCo); pads give a rectangle to stand on
+        pad = (0.24 * big_r, 0.8 * (y1 - y0), 0.12 * big_r)
+        parts.append(Part(f"foot_{i}", box((end[0], yc, -hz + pad[2] / 2), pad)))
     parts.append(
         Part("hammer", _rod((0, yc, zc + 0.9 * big_r), (0, yc, zc + 1.22 * big_r), 0.06 * big_r))
     )
@@ -1160,7 +1163,11 @@ def teddy_bear(size, rng, style, support_heights):
         else p
         for p in parts
     ]
-    return _scaled(parts, size)
+    # all ellipsoids touch the ground at points and the bear rolls over (measured in
+    # MuJoCo): a flat felt pad under the body gives it something to sit or stand on
+    hx, hy, hz = np.asarray(size) / 2
+    pad = (0.9 * hx, 0.9 * hy, 0.04 * hz)
+    return [*_scaled(parts, size), Part("pad", box((0.0, 0.0, -hz + pad[2] / 2), pad))]
 
 
 # -- flat hand-held things: remote, phone, card, watch, keys, disc ----------------------------
