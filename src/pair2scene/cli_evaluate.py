@@ -44,3 +44,5 @@ def evaluate_command(
     for key in HEADLINE:
         value = report.get(key)
         typer.echo(f"  {key:<22}{'-' if value is None else f'{value:.4g}'}")
+    for note in report.get("notes", []):
+        typer.echo(f"note: {note}")

@@ -40,6 +40,8 @@ REPORT_FORMAT = "pair2scene.evaluation"
 REPORT_VERSION = 1
 CACHE_FORMAT = "pair2scene.evaluation_cache"
 SPLITS = ("train", "val")
+SMALL_SET = 20
+"""Fewer scenes than this in a set: the image metrics come with a note."""
 MIN_SCA_IMAGES = 10
 """Fewer scenes than this in either set: no SCA (5-fold cross-validation needs a few
 images per fold and class)."""
@@ -311,6 +313,16 @@ def evaluate(
             for k, r in per_scene.items()
         },
     }
+    notes = []
+    if len(reference) < SMALL_SET or len(generated) < SMALL_SET:
+        notes.append(
+            f"{len(generated)} generated and {len(reference)} reference scenes: FID, KID and "
+            f"SCA are noisy below {SMALL_SET} each (add references, e.g. procthor:PATH:val, "
+            "or generate more)"
+        )
+    if report.get("sca") is None and images:
+        notes.append(img["sca_detail"].get("note", "no SCA"))
+    report["notes"] = notes
     report["seconds"] = round(time.perf_counter() - t0, 2)
     report = _finite(report)
     if out is not None:
