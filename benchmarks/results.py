@@ -110,6 +110,27 @@ def table(rows: dict[str, dict | None]) -> list[str]:
     return lines
 
 
+def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) -> str | None:
+    """docs/results_<room>.png: a row of top views (what FID, KID and SCA see) for the real
+    rooms and for each method; the file name, or None when nothing was generated."""
+    import numpy as np
+
+    from pair2scene.evaluate import _counted_only, load_reference, load_scene_folder
+    from pair2scene.metrics.topview import contact_sheet, topview
+
+    rows = [load_reference(["ai2thor:val", f"procthor:{PROCTHOR_VAL}"], [room])[:per_row]]
+    for name in names:
+        folder = a.work / slug(name) / room
+        if folder.is_dir():
+            rows.append(load_scene_folder(folder)[:per_row])
+    if len(rows) < 2:
+        return None
+    images = [topview(_counted_only(s), 160) for row in rows for s in row]
+    out = DOC.parent / f"results_{room}.png"
+    contact_sheet(np.stack(images), cols=per_row).save(out)
+    return out.name
+
+
 def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: list[str]) -> None:
     from pair2scene.io.atomic import atomic_write_text
 
@@ -142,6 +163,11 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         if n_ref is not None:
             lines += [f"Reference: {n_ref} real rooms.", ""]
         lines += table(rows) + [""]
+        picture = sheet(room, [n for n in described if rows.get(n)], a)
+        if picture is not None:
+            lines += [f"Top views, one row each: real rooms, then "
+                      f"{', '.join(n for n in described if rows.get(n))}:", "",
+                      f"![{room} top views]({picture})", ""]  # fmt: skip
     # The hand-written discussion (what the figures mean) survives a rerun.
     old = DOC.read_text(encoding="utf-8") if DOC.exists() else ""
     at = old.find(DISCUSSION)
