@@ -140,7 +140,11 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         f"`python benchmarks/results.py --pairs PAIRS --variants VARIANTS --scenes {a.scenes}` "
         f"on {machine()}, {dt.date.today().isoformat()}. Each cell: {a.scenes} generated rooms "
         "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
-        "the ProcTHOR-1k val rooms of the same type.",
+        "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
+        "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
+        "(the bundled model's data); VARIANTS holds `pair2scene train --variant V` "
+        "checkpoints (`--train-missing` trains them; this run's `global` had 6 epochs, "
+        "`class-only` 40, `no-pretrain` its preset's 2).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "
