@@ -38,7 +38,7 @@ from pair2scene.scene.model import Scene
 
 REPORT_FORMAT = "pair2scene.evaluation"
 REPORT_VERSION = 1
-CACHE_FORMAT = "pair2scene.evaluation_cache"
+CACHE_FORMAT = "pair2scene.evaluation_cache.2"  # bumped when a metric changes
 SPLITS = ("train", "val")
 SMALL_SET = 20
 """Fewer scenes than this in a set: the image metrics come with a note."""

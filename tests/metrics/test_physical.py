@@ -71,3 +71,14 @@ def test_stability_counts_what_falls_or_topples():
     assert report["stability"] == pytest.approx(2 / 4)
     assert set(report["unstable"]) == {"held", "slab"}
     assert physical_report(scene, assets, simulate=False).keys() >= {"collision_rate"}
+
+
+def test_a_thin_object_on_a_thin_support_is_not_floating():
+    # a 4 mm card resting on a 6 mm slab: lowered 1 cm in one jump it would pass through
+    scene, assets = scene_of(
+        ("slab", [1.0, 1.0, 0.5], [0.3, 0.3, 0.006], FLOOR),
+        ("card", [1.0, 1.0, 0.505], [0.09, 0.05, 0.004], "slab"),
+        ("high", [1.5, 1.5, 0.5], [0.3, 0.3, 0.006], FLOOR),
+        ("above", [1.5, 1.5, 0.52], [0.09, 0.05, 0.004], "high"),  # 1.5 cm up
+    )
+    assert set(floating(scene, assets)) == {"slab", "high", "above"}  # the slabs hang mid-air
