@@ -115,3 +115,28 @@ def test_yaw_snaps_to_the_support_axes_only_when_close():
     assert upright(far, 0.0, 10.0).yaw == pytest.approx(np.radians(120))
     turned = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(33)))
     assert upright(turned, np.radians(30), 10.0).yaw == pytest.approx(np.radians(30))
+
+
+def test_an_object_whose_base_fits_no_surface_is_dropped_without_drawing(placer):
+    from pair2scene.assembly.place import no_room_on
+    from pair2scene.assets.registry import generate
+
+    dresser = generate("dresser", np.array([0.65, 0.74, 1.03]), 1)
+    wide_tv = generate("television", np.array([1.18, 0.07, 0.8]), 2)
+    small_tv = generate("television", np.array([0.5, 0.07, 0.35]), 2)
+    reason = no_room_on(wide_tv, dresser)
+    assert reason is not None and reason.startswith("too large: its base is 1.18")
+    assert no_room_on(small_tv, dresser) is None
+
+    class Given(Placer):  # the assets above, whatever the size table would draw
+        def assets_for(self, hierarchy, seed, given=None):
+            return {"dresser_0": dresser, "television_0": wide_tv}
+
+    h = Hierarchy("bedroom")
+    d = h.add("dresser", FLOOR)
+    h.add("television", d.id)
+    stats = Given(placer.model).place(h.validate(), make_room("bedroom", np.random.default_rng(0)))
+    stats = stats.stats
+    assert [x["id"] for x in stats.dropped] == ["television_0"]
+    assert stats.dropped[0]["reason"].endswith("of dresser_0")
+    assert "unsupported" not in stats.rejections  # no candidate was drawn for it

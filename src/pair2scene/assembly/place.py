@@ -311,6 +311,14 @@ class Placer:
                 )  # fmt: skip
                 continue
             asset = assets[node.id]
+            if item.support != FLOOR and cfg.reject and cfg.gravity:
+                too_big = no_room_on(asset, placed[item.support].asset)
+                if too_big is not None:  # no candidate could rest: do not draw 256
+                    stats.dropped.append(
+                        {"id": node.id, "category": node.category,
+                         "reason": f"{too_big} of {item.support}"}
+                    )  # fmt: skip
+                    continue
             if item.support == FLOOR:
                 support = Anchor.floor(bounds)
             else:
@@ -506,6 +514,25 @@ def surface_fit(support: Asset, margin: float = 0.9):
         return ok
 
     return fits
+
+
+def no_room_on(asset: Asset, support: Asset) -> str | None:
+    """Why ``asset`` can rest on none of ``support``'s surfaces, whatever its pose, or
+    None: its contact rectangle (what touches the surface) is longer than every
+    surface's diagonal, or its short side longer than every surface's long side. (A
+    necessary test only: what passes may still find no place.)"""
+    contact = np.sort(np.ptp(contact_rectangle(asset), axis=0))  # (short, long)
+    best = None
+    for surface in surfaces_of(support):
+        extent = np.sort(np.ptp(surface.polygon, axis=0))
+        if contact[1] <= np.hypot(*extent) and contact[0] <= extent[1]:
+            return None
+        if best is None or extent.prod() > best.prod():
+            best = extent
+    if best is None:
+        return "nothing to rest on"
+    return (f"too large: its base is {contact[1]:.2f} x {contact[0]:.2f} m, the largest "
+            f"surface {best[1]:.2f} x {best[0]:.2f} m")  # fmt: skip
 
 
 def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
