@@ -25,9 +25,8 @@ import numpy as np
 import torch
 
 from pair2scene.errors import UserError
-from pair2scene.model.api import PlacementQuery
+from pair2scene.model.api import PlacementQuery, canonical_to_world
 from pair2scene.model.baseline import GaussianBaseline, GaussianConfig, GaussianMixture
-from pair2scene.scene.geometry import OrientedBox
 
 _EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts under a support's half-size."""
@@ -38,25 +37,6 @@ def numpy_rng(generator: torch.Generator | None) -> np.random.Generator:
     None), so that the torch seed of a placement decides the baselines' draws too."""
     seed = int(torch.randint(0, 2**62, (1,), generator=generator))
     return np.random.default_rng(seed)
-
-
-def canonical_to_world(canonical: np.ndarray, support: OrientedBox) -> np.ndarray:
-    """Canonical box vectors (..., 12) in ``support``'s frame (as 3D-Pairs stores them,
-    :meth:`OrientedBox.in_frame_of`) -> world vectors (..., 12), the 6D part
-    orthonormalised."""
-    x = np.asarray(canonical, dtype=np.float64)
-    half = np.maximum(support.half_size, _EPS)
-    rot = support.rotation
-    center = (x[..., 0:3] * half) @ rot.T + support.center
-    size = x[..., 3:6] * half
-    c0 = _unit(x[..., 6:9] @ rot.T)
-    c1 = x[..., 9:12] @ rot.T
-    c1 = _unit(c1 - (c0 * c1).sum(-1, keepdims=True) * c0)
-    return np.concatenate([center, size, c0, c1], axis=-1)
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), _EPS)
 
 
 class GaussianPlacement:

@@ -294,15 +294,7 @@ class LayoutModel:
         (centre, size, 6D; the 6D part orthonormalised)."""
         vec = box_of(samples)
         if self.variant is not Variant.GLOBAL:
-            canonical = from_model_frame(vec, factor)
-            sup = query.support.box
-            rot = sup.rotation
-            half = np.maximum(sup.half_size, 1e-9)
-            center = (canonical[..., 0:3] * half) @ rot.T + sup.center
-            size = canonical[..., 3:6] * half
-            c0 = canonical[..., 6:9] @ rot.T
-            c1 = canonical[..., 9:12] @ rot.T
-            vec = np.concatenate([center, size, c0, c1], axis=-1)
+            return canonical_to_world(from_model_frame(vec, factor), query.support.box)
         return _orthonormal_6d(vec)
 
     def sample(
@@ -343,6 +335,20 @@ def _procedural_cloud(category: str, size, n: int) -> np.ndarray:
 
     asset = generate(category, np.asarray(size, dtype=float), np.random.default_rng(0))
     return asset_cloud(asset, n)
+
+
+def canonical_to_world(canonical: np.ndarray, support: OrientedBox) -> np.ndarray:
+    """Canonical box vectors (..., 12) in ``support``'s frame (as 3D-Pairs stores them,
+    :meth:`OrientedBox.in_frame_of`) -> world vectors (..., 12), the 6D part
+    orthonormalised."""
+    x = np.asarray(canonical, dtype=np.float64)
+    rot = support.rotation
+    half = np.maximum(support.half_size, 1e-9)
+    center = (x[..., 0:3] * half) @ rot.T + support.center
+    size = x[..., 3:6] * half
+    c0 = x[..., 6:9] @ rot.T
+    c1 = x[..., 9:12] @ rot.T
+    return _orthonormal_6d(np.concatenate([center, size, c0, c1], axis=-1))
 
 
 def _orthonormal_6d(vec: np.ndarray) -> np.ndarray:
