@@ -251,12 +251,11 @@ def evaluate(
 ) -> dict:
     """Every metric of a folder of generated scenes against the reference rooms of the
     same types; written to ``out`` (JSON, atomically) when given."""
+    from pair2scene.io.scene_json import read_scene
     from pair2scene.metrics.distribution import category_kl, pose_mmd
 
     t0 = time.perf_counter()
     files = scene_files(scenes)
-    from pair2scene.io.scene_json import read_scene
-
     generated = [read_scene(p) for p in files]
     types = sorted({s.room.type for s in generated})
     reference = load_reference(references, types, progress=progress)

@@ -38,11 +38,11 @@ STABILITY_SECONDS = 2.0
 """Simulated time under gravity for :func:`stability`."""
 
 
-def _shapes(scene: Scene, assets: dict[str, Asset], lift: float = 0.0) -> dict[str, Shape]:
+def _shapes(scene: Scene, assets: dict[str, Asset]) -> dict[str, Shape]:
     out = {}
     for o in scene.objects:
         shape = Shape(assets[o.id])
-        shape.set_pose(o.box.rotation, o.box.center + [0.0, 0.0, lift])
+        shape.set_pose(o.box.rotation, o.box.center)
         out[o.id] = shape
     return out
 
