@@ -90,6 +90,19 @@ def test_bad_requests_are_user_errors(stats, tmp_path):
     assert len(build_hierarchy(room="Living room", seed=1)) > 0
 
 
+def test_fit_rooms_are_furnished(stats):
+    """The bundled bedrooms include one with no furniture and ones with one or two
+    objects; drawn independently, template and count gave empty rooms (seed 34) and
+    one-piece ones. A room holds its drawn furniture, never nothing."""
+    bedroom = stats.room_types["bedroom"]
+    assert () in bedroom.layouts and min(bedroom.object_counts) <= 2  # what is guarded
+    for seed in range(60):
+        h = synthesize(stats, "bedroom", SynthesisConfig(seed=seed))
+        floor = [n for n in h.nodes if h.support[n.id] == FLOOR]
+        assert floor and len(h) >= len(floor), seed
+        assert not any("cut" in note for note in h.notes), (seed, h.notes)
+
+
 def test_fit_cap(stats):
     for seed in range(20):
         assert len(synthesize(stats, "kitchen", SynthesisConfig(max_objects=5, seed=seed))) <= 5

@@ -239,9 +239,14 @@ def synthesize(
     rs = st.room(room_type)
     rng = np.random.default_rng(config.seed)
     h = Hierarchy(room_type)
-    template = list(_draw(rs.layouts, rng))
+    # A training room with no furniture (or a count below its own furniture's) would
+    # give an empty or one-piece scene: a room is drawn from the furnished ones, and its
+    # object count from those that hold the drawn furniture.
+    template = list(_draw(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
+                          rng))  # fmt: skip
     if config.mode == "fit":
-        target = int(_draw(rs.object_counts, rng))
+        counts = Counter({k: v for k, v in rs.object_counts.items() if k >= len(template)})
+        target = int(_draw(counts or rs.object_counts, rng))
         if config.max_objects is not None:
             target = min(target, config.max_objects)
     else:
