@@ -29,7 +29,7 @@ from pair2scene.hierarchy.synthesis import load_stats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.io.jsondoc import read_json_document
-from pair2scene.scene.model import Scene
+from pair2scene.scene.model import FLOOR, Scene
 
 SUMMARY_FORMAT = "pair2scene.summary"
 SUMMARY_VERSION = 1
@@ -102,8 +102,14 @@ class Pair2Scene:
             self.stats, llm,
         )  # fmt: skip
         kept_assets: dict = {}
+        assets = None
         if partial is None:
-            room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]), self.rooms)
+            # The room is drawn after the furniture, large enough to hold it.
+            assets = self.placer.assets_for(hierarchy, seed)
+            furniture = sum(float(np.prod(assets[n.id].size[:2])) for n in hierarchy.nodes
+                            if hierarchy.support[n.id] == FLOOR)  # fmt: skip
+            room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]),
+                                 self.rooms, furniture)  # fmt: skip
         else:
             room_obj = partial.room
             kept_assets = keep.assets
@@ -112,7 +118,7 @@ class Pair2Scene:
         placement = self.placer.place(
             hierarchy, room_obj, seed=seed, scene_id=sid,
             keep=None if partial is None else partial.objects, keep_assets=kept_assets,
-            dense=mode == "beyond",
+            dense=mode == "beyond", assets=assets,
         )  # fmt: skip
         stats = placement.stats.to_dict()
         if partial is not None:

@@ -11,6 +11,7 @@ from pair2scene.assembly.place import placement_order
 from pair2scene.assets.mesh import Asset, Part, box
 from pair2scene.assets.registry import generate
 from pair2scene.hierarchy.tree import Hierarchy
+from pair2scene.scene.geometry import yaw_to_matrix
 from pair2scene.scene.model import FLOOR
 
 SUP_DEP = {"side_table": {"book": 5, "mug": 3}, "desk": {"book": 2}, "bed": {"pillow": 3}}
@@ -91,5 +92,26 @@ def test_push_out_frees_a_shallow_overlap():
     cand.set_pose(np.eye(3), np.array([push[0], 0.0, 0.5]))
     assert not world.colliding(cand, ["a"])
     on_top = Shape(cube)
-    on_top.set_pose(np.eye(3), np.array([0.9, 0.0, 1.45]))  # 5 cm into it from above
-    assert world.push_out(on_top, ["a"]) is None
+    on_top.set_pose(np.eye(3), np.array([0.8, 0.0, 1.45]))  # 5 cm into it from above
+    push = world.push_out(on_top, ["a"])  # sideways off its footprint: the short way
+    assert push[0] == pytest.approx(-0.902, abs=1e-6) and abs(push[1]) < 1e-9
+    touching = Shape(cube)
+    touching.set_pose(np.eye(3), np.array([0.9, 0.0, 1.5]))  # resting on it
+    assert not world.push_out(touching, ["a"]).any()
+
+
+def test_push_out_clears_every_overlap_at_once():
+    """Wedged between two blocks, the candidate moves along the one free direction far
+    enough to clear both (each contact's own push would drive it into the other)."""
+    cube = Asset("x", np.ones(3), (Part("b", box([0, 0, 0], [1, 1, 1])),))
+    world = MeshWorld()
+    for name, x in (("left", -0.95), ("right", 0.95)):
+        block = Shape(cube)
+        block.set_pose(np.eye(3), np.array([x, 0.0, 0.5]))
+        world.add(name, block)
+    cand = Shape(cube)
+    cand.set_pose(yaw_to_matrix(0.3), np.array([0.0, 0.3, 0.5]))
+    push = world.push_out(cand, ["left", "right"])
+    assert abs(push[0]) < 1e-9 and push[1] > 0 and push[2] == 0
+    cand.set_pose(yaw_to_matrix(0.3), np.array([0.0, 0.3, 0.5]) + push)
+    assert not world.colliding(cand, ["left", "right"])

@@ -140,3 +140,57 @@ def test_an_object_whose_base_fits_no_surface_is_dropped_without_drawing(placer)
     assert [x["id"] for x in stats.dropped] == ["television_0"]
     assert stats.dropped[0]["reason"].endswith("of dresser_0")
     assert "unsupported" not in stats.rejections  # no candidate was drawn for it
+
+
+class _Fixed:
+    """A stand-in model whose every candidate is one given box (the query's size; the
+    centre may depend on it)."""
+
+    def __init__(self, center, yaw=0.0):
+        self.center, self.yaw = center, yaw
+
+    def sample(self, query, n, temperature=1.0, generator=None):
+        center = self.center(query.size) if callable(self.center) else self.center
+        box = OrientedBox.from_yaw(center, query.size, self.yaw)
+        return np.repeat(box.to_vector()[None], n, axis=0)
+
+
+def _door_room():
+    from pair2scene.scene.model import Opening, Room
+
+    polygon = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    return Room("bedroom", polygon, 2.6, (Opening("door", (1.5, 0.0), (2.4, 0.0), 0.0, 2.1),))
+
+
+def test_a_candidate_in_a_doors_swing_is_moved_out_of_it():
+    """A dresser drawn 0.35 m from the door's wall (its swing is 0.8 m deep) moves the
+    shortest way out of the swing, into the room, instead of being rejected."""
+    h = Hierarchy("bedroom")
+    h.add("dresser", FLOOR)
+    room = _door_room()
+    placer = Placer(_Fixed(lambda size: [1.95, 0.35 + size[1] / 2, size[2] / 2]))
+    result = placer.place(h.validate(), room, seed=0)
+    assert result.stats.placed == 1 and result.stats.resamples == [0]
+    assert result.stats.repaired == 1
+    (obj,) = result.scene.objects
+    (zone,) = door_boxes(room, placer.config.door_clearance_m, room.height)
+    half = obj.box.size[1] / 2
+    assert obj.box.center[1] - half == pytest.approx(0.8 + 2e-3, abs=1e-6)  # just clear
+    assert obj.box.center[0] == pytest.approx(1.95)
+    far = Placer(placer.model, config=AssemblyConfig(floor_repair_m=0.4))
+    stats = far.place(h, room, seed=0).stats  # 0.45 m out of the swing: too far
+    assert stats.placed == 0 and stats.rejections == {"door": 256}
+
+
+def test_a_floor_object_pushed_flush_against_a_wall_stays():
+    """Moved into the room and flush against the wall, a footprint's corners lie on the
+    wall, where the even-odd polygon test answers either way: still in the room."""
+    h = Hierarchy("bedroom")
+    h.add("dresser", FLOOR)
+    for x in (3.7, 3.95, 4.1):  # near the wall at x = 4, through it, half out
+        result = Placer(_Fixed([x, 2.0, 0.5], yaw=np.pi / 2)).place(
+            h.validate(), _door_room(), seed=0
+        )
+        assert result.stats.placed == 1 and result.stats.resamples == [0], x
+        (obj,) = result.scene.objects
+        assert obj.box.corners()[:, 0].max() == pytest.approx(4.0, abs=2e-3)

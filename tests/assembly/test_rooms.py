@@ -39,3 +39,17 @@ def test_bundled_table_and_errors(tmp_path):
     bad.write_text('{"format": "pair2scene.rooms", "version": 1, "sizes": {"x": [[0, 1, 2]]}}')
     with pytest.raises(UserError, match="finite and positive"):
         RoomTable.load(bad)
+
+
+def test_rooms_are_drawn_large_enough_for_their_furniture():
+    from pair2scene.assembly.rooms import MAX_FLOOR_SHARE
+
+    sizes = np.array([[3.0, 3.0, 2.5], [5.0, 4.0, 2.5], [8.0, 6.0, 2.5]])
+    table = RoomTable({"bedroom": sizes})
+    free = {make_room("bedroom", np.random.default_rng(s), table).area for s in range(40)}
+    assert free == {9.0, 20.0, 48.0}  # no furniture: any training room
+    need = 8.0 * MAX_FLOOR_SHARE * 1.5  # more than 40 % of 9 m2, less than of 20 m2
+    drawn = {make_room("bedroom", np.random.default_rng(s), table, need).area for s in range(40)}
+    assert drawn == {20.0, 48.0}
+    huge = make_room("bedroom", np.random.default_rng(0), table, 100.0)
+    assert huge.area == pytest.approx(48.0)  # none is large enough: the largest

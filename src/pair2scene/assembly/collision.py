@@ -99,6 +99,46 @@ def _convex_geometry(fcl, vertices: np.ndarray, faces: np.ndarray):
     return fcl.Convex(np.ascontiguousarray(vertices, dtype=np.float64), len(faces), flat)
 
 
+def _outline(vertices: np.ndarray) -> np.ndarray:
+    """(K, 2) counter-clockwise convex outline of points' xy (their bounding rectangle
+    when the projection is flat: a panel seen edge-on)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    xy = np.asarray(vertices, float)[:, :2]
+    try:
+        return xy[ConvexHull(xy).vertices]
+    except (QhullError, ValueError):
+        (x0, y0), (x1, y1) = xy.min(0) - 1e-6, xy.max(0) + 1e-6
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+
+
+def _edge_normals(outline: np.ndarray) -> np.ndarray:
+    """(K, 2) unit outward normals of a counter-clockwise outline's edges, both ways
+    round (a move may go either way along a separating axis)."""
+    edges = np.roll(outline, -1, axis=0) - outline
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
+    length = np.linalg.norm(normals, axis=1)
+    normals = normals[length > 1e-9] / length[length > 1e-9, None]
+    return np.concatenate([normals, -normals])
+
+
+def clearing_move(pairs: list[tuple[np.ndarray, np.ndarray]], gap: float = 2e-3) -> np.ndarray:
+    """The shortest horizontal move (3,) of the first outline of every pair that leaves
+    it ``gap`` clear of the second: pairs of convex counter-clockwise outlines (K, 2).
+    Along a direction d (among the outlines' edge normals: the separating axis theorem's
+    candidates), a pair is clear once min(mine . d) + t >= max(theirs . d); every pair at
+    once needs the largest such t; the direction needing the smallest is taken. Zero for
+    no pairs."""
+    if not pairs:
+        return np.zeros(3)
+    directions = np.concatenate([_edge_normals(p) for pair in pairs for p in pair])
+    need = np.full(len(directions), -np.inf)
+    for mine, theirs in pairs:
+        need = np.maximum(need, (theirs @ directions.T).max(0) - (mine @ directions.T).min(0))
+    best = int(np.argmin(need))
+    return np.array([*(directions[best] * (need[best] + gap)), 0.0])
+
+
 class Shape:
     """The fcl geometry of one asset (one convex object per part), posed as a whole."""
 
@@ -110,12 +150,28 @@ class Shape:
             for p in asset.parts
         ]
 
+        self.rotation, self.translation = np.eye(3), np.zeros(3)
+        self._outlines: list[np.ndarray | None] = [None] * len(self.objects)
+
     def set_pose(self, rotation: np.ndarray, translation: np.ndarray) -> None:
         """Place the asset's local frame: world = rotation @ local + translation."""
         fcl = _fcl()
-        tf = fcl.Transform(np.asarray(rotation, float), np.asarray(translation, float))
+        self.rotation = np.asarray(rotation, float)
+        self.translation = np.asarray(translation, float)
+        tf = fcl.Transform(self.rotation, self.translation)
         for o in self.objects:
             o.setTransform(tf)
+
+    def footprint(self, part: int) -> np.ndarray:
+        """(K, 2) world xy of the convex outline of one part's projection on the floor,
+        counter-clockwise (objects stand upright: the outline turns with their yaw)."""
+        if abs(self.rotation[2, 2] - 1.0) > 1e-9:  # tilted: the outline changes shape
+            world = self.asset.parts[part].mesh.vertices @ self.rotation.T
+            return _outline(world) + self.translation[:2]
+        if self._outlines[part] is None:
+            self._outlines[part] = _outline(self.asset.parts[part].mesh.vertices)
+        xy = self._outlines[part] @ self.rotation[:2, :2].T
+        return xy + self.translation[:2]
 
 
 class MeshWorld:
@@ -145,34 +201,33 @@ class MeshWorld:
                     deepest = max(deepest, depth)
         return deepest
 
-    def push_out(self, candidate: Shape, against: Iterable[str]) -> np.ndarray | None:
-        """The horizontal move (3,) that takes the posed candidate out of its deepest contact
-        with each of ``against`` (along the contact normal's horizontal part, 2 mm past
-        touching), summed; zero when none penetrates beyond :attr:`Tolerances.touch`; None
-        when a contact is vertical (resting on or under it: no sideways move frees it)."""
+    def push_out(self, candidate: Shape, against: Iterable[str]) -> np.ndarray:
+        """The shortest horizontal move (3,) that takes the posed candidate clear of every
+        part of ``against`` it penetrates beyond the contact tolerance (2 mm past
+        touching); zero when it penetrates none.
+
+        Objects rest on surfaces, so only a sideways move frees one. Each penetrating pair
+        of convex parts overlaps in height, so separating their footprints (projections
+        on the floor, :func:`clearing_move`) separates them. A candidate sunk into an
+        object from above thus has to leave its footprint: a long move, which placement's
+        repair limit turns down, where a shallow sideways overlap costs a short one. The
+        move may meet a third object; the caller tests again."""
         fcl = _fcl()
         request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
-        total = np.zeros(3)
+        pairs: list[tuple[np.ndarray, np.ndarray]] = []
         for oid in against:
             other = self.shapes.get(oid)
             if other is None:
                 continue
-            deepest, normal = self.touch_between(candidate, other), None
-            for oa in candidate.objects:
-                for ob in other.objects:
+            touch = self.touch_between(candidate, other)
+            for i, oa in enumerate(candidate.objects):
+                for j, ob in enumerate(other.objects):
                     result = fcl.CollisionResult()
-                    if fcl.collide(oa, ob, request, result):
-                        for c in result.contacts:
-                            if c.penetration_depth > deepest:
-                                deepest, normal = c.penetration_depth, np.asarray(c.normal, float)
-            if normal is None:
-                continue
-            horizontal = np.hypot(normal[0], normal[1])
-            if horizontal < 0.3:
-                return None
-            move = -normal * np.array([1.0, 1.0, 0.0]) / horizontal
-            total += move * (deepest / horizontal + 2e-3)
-        return total
+                    if fcl.collide(oa, ob, request, result) and any(
+                        c.penetration_depth > touch for c in result.contacts
+                    ):
+                        pairs.append((candidate.footprint(i), other.footprint(j)))
+        return clearing_move(pairs)
 
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:
         """The ids among ``against`` whose parts penetrate the posed candidate by more than

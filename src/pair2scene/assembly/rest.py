@@ -129,9 +129,13 @@ def rest_on_surfaces(
     return best
 
 
-def on_floor(box: OrientedBox, floor_polygon: np.ndarray) -> bool:
-    """Whether the whole footprint of ``box`` lies inside the room's floor polygon."""
-    return bool(points_in_polygon(footprint(box), floor_polygon).all())
+def on_floor(box: OrientedBox, floor_polygon: np.ndarray, tol: float = 1e-3) -> bool:
+    """Whether the whole footprint of ``box`` lies inside the room's floor polygon; a
+    corner within ``tol`` of a wall counts as inside (a box moved flush against a wall has
+    its corners on the boundary, where the even-odd test answers either way)."""
+    h = np.maximum(box.half_size[:2] - tol, 0.0)
+    inner = np.array([[-h[0], -h[1]], [h[0], -h[1]], [h[0], h[1]], [-h[0], h[1]]])
+    return bool(points_in_polygon(footprint(box, inner), floor_polygon).all())
 
 
 def into_room(
