@@ -89,12 +89,12 @@ class AssemblyConfig:
     """The same for objects on a support (aligned with the support's axes)."""
     repair_m: float = 0.25
     """Largest nudge that puts a candidate onto its surface, into the room or out of a
-    shallow collision; a farther one is rejected. (Push-outs were also capped at the
-    object's own width: a 9 cm card 12 cm from clear of a lamp's base was rejected; 20
-    fit bedrooms, 0.20 -> 0.16 resamples without the cap.) Measured on 20 fit bedrooms (`benchmarks/generate.py`), with
-    ``floor_repair_m`` and ``push_attempts``: 0.15 / 0.4 m and 2 push-outs gave 0.67
-    resamples per object, 0.25 / 0.6 m and 5 gave 0.44, 0.3 / 0.8 m and 8 gave 0.43;
-    mesh collisions stayed 0 (every nudged candidate passes the same tests)."""
+    shallow collision; a farther one is rejected. Measured on 20 fit bedrooms
+    (`benchmarks/generate.py`), with ``floor_repair_m`` and ``push_attempts``: 0.15 /
+    0.4 m and 2 push-outs gave 0.67 resamples per object, 0.25 / 0.6 m and 5 gave 0.44,
+    0.3 / 0.8 m and 8 gave 0.43; mesh collisions stayed 0 (every nudged candidate passes
+    the same tests). Push-outs were also capped at the object's own width (a 9 cm card
+    12 cm from clear of a lamp's base was rejected): 0.20 -> 0.16 without the cap."""
     floor_repair_m: float = 0.6
     """The same for floor objects (furniture is metres wide: a nudge of a hand's width
     off a wall or a neighbour keeps the model's arrangement)."""
