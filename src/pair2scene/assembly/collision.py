@@ -21,6 +21,7 @@ import numpy as np
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.errors import UserError
+from pair2scene.scene.geometry import convex_hull_2d
 
 
 @dataclass(frozen=True)
@@ -102,14 +103,12 @@ def _convex_geometry(fcl, vertices: np.ndarray, faces: np.ndarray):
 def _outline(vertices: np.ndarray) -> np.ndarray:
     """(K, 2) counter-clockwise convex outline of points' xy (their bounding rectangle
     when the projection is flat: a panel seen edge-on)."""
-    from scipy.spatial import ConvexHull, QhullError
-
     xy = np.asarray(vertices, float)[:, :2]
-    try:
-        return xy[ConvexHull(xy).vertices]
-    except (QhullError, ValueError):
-        (x0, y0), (x1, y1) = xy.min(0) - 1e-6, xy.max(0) + 1e-6
-        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    hull = convex_hull_2d(xy)
+    if len(hull) >= 3:
+        return np.asarray(hull)
+    (x0, y0), (x1, y1) = xy.min(0) - 1e-6, xy.max(0) + 1e-6
+    return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
 
 
 def _edge_normals(outline: np.ndarray) -> np.ndarray:

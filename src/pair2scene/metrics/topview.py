@@ -16,36 +16,11 @@ from PIL import Image, ImageDraw
 
 from pair2scene.assembly.export import semantic_color
 from pair2scene.errors import UserError
+from pair2scene.scene.geometry import convex_hull_2d
 
 MARGIN = 1.05
 """View side over the room's largest extent: a little air so boxes at walls are whole."""
 BACKGROUND = (255, 255, 255)
-
-
-def _hull(points: np.ndarray) -> list[tuple[float, float]]:
-    """Convex hull (counter-clockwise) of 2D points: a tilted box's footprint.
-
-    Monotone chain; duplicate and collinear points are dropped, so an upright box's
-    eight corners give its four footprint corners.
-    """
-    pts = sorted({(float(x), float(y)) for x, y in points})
-    if len(pts) <= 2:
-        return pts
-
-    def cross(o, a, b) -> float:
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list[tuple[float, float]] = []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    upper: list[tuple[float, float]] = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
 
 
 def _frame(scene) -> tuple[np.ndarray, float]:
@@ -85,7 +60,7 @@ def topview(scene, size: int = 256) -> np.ndarray:
         # [a, b] in continuous image coordinates fills the pixels centred inside it
         cols = (xy[:, 0] - origin[0]) * scale - 0.5
         rows = (origin[1] - xy[:, 1]) * scale - 0.5
-        footprint = _hull(np.stack([cols, rows], axis=1))
+        footprint = convex_hull_2d(np.stack([cols, rows], axis=1))
         if len(footprint) >= 3:
             draw.polygon(footprint, fill=semantic_color(obj.category))
     return np.asarray(image, dtype=np.uint8)

@@ -266,3 +266,29 @@ def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> np.ndarray:
         x_at = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
     inside = crosses & (x < x_at)
     return np.count_nonzero(inside, axis=1) % 2 == 1
+
+
+def convex_hull_2d(points: np.ndarray) -> list[tuple[float, float]]:
+    """Convex hull (counter-clockwise) of 2D points: a tilted box's footprint.
+
+    Monotone chain; duplicate and collinear points are dropped, so an upright box's
+    eight corners give its four footprint corners.
+    """
+    pts = sorted({(float(x), float(y)) for x, y in points})
+    if len(pts) <= 2:
+        return pts
+
+    def cross(o, a, b) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[tuple[float, float]] = []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    upper: list[tuple[float, float]] = []
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
