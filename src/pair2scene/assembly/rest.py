@@ -53,14 +53,19 @@ _INSET = 1e-3
 _CONTACTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
+def _rectangle(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(4, 2) counter-clockwise corners of the rectangle [lo, hi]."""
+    (x0, y0), (x1, y1) = lo, hi
+    return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+
+
 def contact_rectangle(asset: Asset, band: float = RULES.contact_band_m) -> np.ndarray:
     """(4, 2) local xy corners of the rectangle around the asset's lowest vertices."""
     cached = _CONTACTS.get(asset)
     if cached is None:
         v = asset.mesh.vertices
         low = v[v[:, 2] <= v[:, 2].min() + band, :2]
-        (x0, y0), (x1, y1) = low.min(0), low.max(0)
-        cached = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+        cached = _rectangle(low.min(0), low.max(0))
         _CONTACTS[asset] = cached
     return cached
 
@@ -70,7 +75,7 @@ def footprint(box: OrientedBox, contact: np.ndarray | None = None) -> np.ndarray
     ``contact``, a (4, 2) rectangle in the box's local xy)."""
     if contact is None:
         h = box.half_size
-        contact = np.array([[-h[0], -h[1]], [h[0], -h[1]], [h[0], h[1]], [-h[0], h[1]]])
+        contact = _rectangle(-h[:2], h[:2])
     corners = box.center[:2] + contact @ box.rotation[:2, :2].T
     return np.vstack([box.center[None, :2], corners])
 
@@ -134,8 +139,7 @@ def on_floor(box: OrientedBox, floor_polygon: np.ndarray, tol: float = 1e-3) -> 
     corner within ``tol`` of a wall counts as inside (a box moved flush against a wall has
     its corners on the boundary, where the even-odd test answers either way)."""
     h = np.maximum(box.half_size[:2] - tol, 0.0)
-    inner = np.array([[-h[0], -h[1]], [h[0], -h[1]], [h[0], h[1]], [-h[0], h[1]]])
-    return bool(points_in_polygon(footprint(box, inner), floor_polygon).all())
+    return bool(points_in_polygon(footprint(box, _rectangle(-h, h)), floor_polygon).all())
 
 
 def into_room(
