@@ -40,7 +40,9 @@ def generate_command(
         list[str] | None,
         typer.Option(
             help="Switch a placement step off: no-rejection (take each object's first "
-            "candidate) or no-gravity (keep its drawn height); repeatable."
+            "candidate), no-gravity (keep its drawn height) or no-confine (draw floor "
+            "candidates out of the room's reach too, as plain rejection sampling); "
+            "repeatable."
         ),
     ] = None,
     threads: Annotated[

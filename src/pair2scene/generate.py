@@ -35,7 +35,7 @@ SUMMARY_FORMAT = "pair2scene.summary"
 SUMMARY_VERSION = 1
 PLACEMENT_MODELS = "default, random, gaussian:PAIRS_DIR, gaussian:FILE.json or a checkpoint folder"
 """What ``--model`` takes (:func:`load_placement_model`)."""
-ABLATIONS = {"no-rejection": "reject", "no-gravity": "gravity"}
+ABLATIONS = {"no-rejection": "reject", "no-gravity": "gravity", "no-confine": "confine"}
 """``--ablation`` name -> the :class:`AssemblyConfig` flag it turns off."""
 
 
@@ -189,7 +189,8 @@ def ablation_config(
     ablation: str | Sequence[str] | None, config: AssemblyConfig | None = None
 ) -> AssemblyConfig:
     """``config`` (default: :class:`AssemblyConfig`) with the ablations' steps switched off
-    (``no-rejection``: ``reject=False``; ``no-gravity``: ``gravity=False``)."""
+    (``no-rejection``: ``reject=False``; ``no-gravity``: ``gravity=False``;
+    ``no-confine``: ``confine=False``)."""
     flags = {ABLATIONS[name]: False for name in ablation_names(ablation)}
     return replace(config or AssemblyConfig(), **flags)
 
@@ -269,7 +270,7 @@ def generate_scenes(
 
     model : a spec of :func:`load_placement_model` (``default``, ``random``,
         ``gaussian:PAIRS_DIR``, ``gaussian:FILE.json``, a checkpoint folder).
-    ablation : ``no-rejection`` and / or ``no-gravity`` (:func:`ablation_config`).
+    ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
     """
     from pair2scene.assembly.export import write_scene_folder
     from pair2scene.progress import track

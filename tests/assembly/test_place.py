@@ -10,8 +10,14 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pair2scene.assembly.collision import MeshWorld, Shape  # noqa: E402
-from pair2scene.assembly.place import AssemblyConfig, Placer, door_boxes, upright  # noqa: E402
-from pair2scene.assembly.rest import contact_rectangle, rest_on_surfaces  # noqa: E402
+from pair2scene.assembly.place import (  # noqa: E402
+    AssemblyConfig,
+    Placer,
+    door_boxes,
+    floor_region,
+    upright,
+)
+from pair2scene.assembly.rest import contact_rectangle, into_room, rest_on_surfaces  # noqa: E402
 from pair2scene.assembly.rooms import make_room  # noqa: E402
 from pair2scene.hierarchy.tree import Hierarchy  # noqa: E402
 from pair2scene.model import from_pretrained  # noqa: E402
@@ -194,3 +200,62 @@ def test_a_floor_object_pushed_flush_against_a_wall_stays():
         assert result.stats.placed == 1 and result.stats.resamples == [0], x
         (obj,) = result.scene.objects
         assert obj.box.corners()[:, 0].max() == pytest.approx(4.0, abs=2e-3)
+
+
+@pytest.mark.parametrize("shape", ["rectangle", "L"])
+def test_no_candidate_drawn_outside_the_floor_region_could_stay(shape):
+    """The floor region is where the model's draws are confined: it must hold every
+    centre the room test could accept. Centres drawn just outside it (any yaw, any size,
+    rectangular and L-shaped rooms) are all refused by into_room with the placer's reach;
+    a little inside it (it allows for the wall snap, which only narrow rooms use) some
+    are taken: it is not needlessly wide either."""
+    from pair2scene.scene.model import Room
+
+    cfg = AssemblyConfig()
+    polygon = {"rectangle": [[0, 0], [4.2, 0], [4.2, 3.1], [0, 3.1]],
+               "L": [[0, 0], [5, 0], [5, 2], [2.5, 2], [2.5, 4], [0, 4]]}[shape]  # fmt: skip
+    room = Room("bedroom", np.array(polygon, float), 2.6)
+    rng = np.random.default_rng(7)
+    taken_inside = 0
+    for _ in range(400):
+        size = rng.uniform([0.2, 0.2, 0.3], [2.2, 2.4, 1.5])
+        region = floor_region(room, size, cfg.floor_repair_m + cfg.wall_snap_m)
+        yaw = rng.choice([0.0, np.pi / 2, rng.uniform(0, 2 * np.pi)])
+        side = rng.integers(4)
+        axis, sign = side % 2, 1 if side < 2 else -1
+        for offset, outside in ((0.005, True), (-cfg.wall_snap_m - 0.02, False)):
+            centre = region.center.copy()
+            centre[1 - axis] += rng.uniform(-1, 1) * region.half_size[1 - axis]
+            centre[axis] += sign * (region.half_size[axis] + offset)
+            box = OrientedBox.from_yaw([*centre[:2], size[2] / 2], size, yaw)
+            kept = into_room(box, room.floor_polygon, cfg.floor_repair_m, cfg.wall_snap_m)
+            if outside:
+                assert kept is None, (size, yaw, centre)
+            else:
+                taken_inside += kept is not None
+    assert taken_inside > 20
+
+
+def test_floor_draws_are_confined_to_the_room_and_the_rest_reported(placer):
+    """With the bundled model every floor candidate's centre lies in its floor region,
+    and the scene's statistics give the mass the model put beyond it (0 < m < 1)."""
+    h = office()
+    room = make_room("bedroom", np.random.default_rng(0))
+    seen = []
+    model = placer.model
+
+    class Spy:
+        def draw(self, query, *args):
+            boxes, mass = model.draw(query, *args)
+            seen.append((query, boxes, mass))
+            return boxes, mass
+
+    result = Placer(Spy(), config=placer.config).place(h, room, seed=1)
+    floor = [(q, b, m) for q, b, m in seen if q.support.is_floor]
+    assert len(floor) == 4 and all(q.region is not None for q, _, _ in floor)
+    for q, boxes, mass in floor:
+        assert (np.abs(boxes[:, :2] - q.region.center[:2]) <= q.region.half_size[:2] + 1e-9).all()
+        assert 0 < mass <= 1
+    outside = result.scene.stats["model_mass_outside_room"]
+    assert outside == pytest.approx(np.mean([1 - m for _, _, m in floor]), abs=1e-4)
+    assert all(q.region is None for q, _, _ in seen if not q.support.is_floor)

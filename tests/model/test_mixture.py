@@ -15,6 +15,7 @@ from pair2scene.model.mixture import (  # noqa: E402
     EntropyRegulariser,
     MixtureConfig,
     MixtureParams,
+    Window,
     box_vector_from_target,
     decode_target,
     encode_target,
@@ -28,6 +29,7 @@ from pair2scene.model.mixture import (  # noqa: E402
     sample,
     soft_clamp,
     target_from_box_vector,
+    window_log_mass,
 )
 from pair2scene.scene.geometry import OrientedBox, sixd_to_matrix  # noqa: E402
 
@@ -310,6 +312,65 @@ def test_temperature_scales_spread():
     half = sample(params, 4000, 0.5, generator=torch.Generator().manual_seed(17))
     # same uniforms, one component: the draws are exactly the T=1 draws times T
     torch.testing.assert_close(half, 0.5 * full)
+
+
+def _two_modes() -> MixtureParams:
+    """Two 2D components, one mostly inside [-1, 1]^2, one mostly beyond x = 1."""
+    return MixtureParams(
+        logits=torch.tensor([[0.3, -0.2]], dtype=torch.float64),
+        loc=torch.tensor([[[0.2, -0.4], [2.5, 0.3]]], dtype=torch.float64),
+        log_scale=torch.tensor([[[-0.8, -1.0], [-0.2, -1.2]]], dtype=torch.float64),
+    )
+
+
+@pytest.mark.parametrize("temperature", [1.0, 0.7])
+def test_windowed_draws_are_the_unconfined_draws_that_fall_inside(temperature):
+    """A window gives the distribution rejection sampling would accept: compared, dim by
+    dim, with unconfined draws filtered to the window; and its mass is the share of
+    unconfined draws inside it."""
+    params = _two_modes()
+    window = Window([0, 1], torch.tensor([[-1.0, -1.0]]), torch.tensor([[1.0, 1.0]]))
+    free = sample(params, 200_000, temperature, torch.Generator().manual_seed(3))[0].numpy()
+    inside = free[(np.abs(free) <= 1.0).all(1)]
+    confined = sample(params, 20_000, temperature, torch.Generator().manual_seed(4), window)
+    confined = confined[0].numpy()
+    assert (np.abs(confined) <= 1.0).all()
+    for j in range(2):
+        assert stats.ks_2samp(confined[:, j], inside[:, j]).pvalue > 1e-3
+    share = len(inside) / len(free)
+    mass = float(window_log_mass(params, window, temperature).exp())
+    assert 0.2 < share < 0.9
+    assert abs(mass - share) < 4 * math.sqrt(share * (1 - share) / len(free))
+
+
+def test_a_window_far_in_a_tail_is_drawn_without_losing_precision():
+    """A window 30 scales out (mass ~1e-13) still gives draws inside it, spread over it
+    (the CDF near 1 has no digits left: the right tail is drawn mirrored)."""
+    params = MixtureParams(
+        torch.zeros(1, 1, dtype=torch.float64),
+        torch.zeros(1, 1, 1, dtype=torch.float64),
+        torch.zeros(1, 1, 1, dtype=torch.float64),
+    )
+    for low, high in [(30.0, 31.0), (-31.0, -30.0)]:
+        window = Window([0], torch.tensor([[low]]), torch.tensor([[high]]))
+        x = sample(params, 4000, 1.0, torch.Generator().manual_seed(5), window)[0, :, 0].numpy()
+        assert np.isfinite(x).all() and (x >= low).all() and (x <= high).all()
+        # the truncated density is ~exp(-(|x| - 30)): |x| - 30 has mean 1 - 1 / (e - 1)
+        assert 0.40 < (np.abs(x) - 30).mean() < 0.44
+        mass = float(window_log_mass(params, window))
+        assert mass == pytest.approx(math.log(math.exp(-30) - math.exp(-31)), rel=1e-6)
+
+
+def test_an_empty_window_draws_unconfined():
+    """A window with no extent (high below low: a room narrower than the object) has no
+    mass; its draws are the unconfined ones, rejected as they would be without it."""
+    params = random_params(19, b=2, k=3, d=2)
+    window = Window([0], torch.tensor([[1.0], [0.5]]), torch.tensor([[0.0], [0.5]]))
+    assert torch.isinf(window_log_mass(params, window)).all()
+    free = sample(params, 50, 1.0, torch.Generator().manual_seed(6))
+    torch.testing.assert_close(
+        sample(params, 50, 1.0, torch.Generator().manual_seed(6), window), free
+    )
 
 
 def test_sample_rejects_bad_arguments():

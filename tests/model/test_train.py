@@ -272,3 +272,30 @@ def test_bundled_default_model_loads_scores_and_samples(pairs_dir):
     inside_room = (np.abs(boxes[:, :2] - [2.5, 2.0]) < [2.5, 2.0]).all(1)
     assert inside_room.mean() > 0.8  # a trained model puts beds in the room
     np.testing.assert_allclose(boxes[:, 2], 0.3, atol=0.05)  # resting on the floor
+
+
+def test_a_region_confines_the_draws_to_it_exactly():
+    """``PlacementQuery.region``: every candidate's centre over it, the reported mass the
+    share of unconfined candidates over it, and the confined candidates distributed as
+    the unconfined ones that fall over it (what rejection would keep)."""
+    from dataclasses import replace
+
+    from scipy import stats
+
+    model = from_pretrained()
+    room = OrientedBox.from_yaw([2.5, 2.0, 1.25], [5.0, 4.0, 2.5])
+    region = OrientedBox.from_yaw([2.5, 2.0, 1.25], [4.0, 3.0, 2.5])
+    free_q = PlacementQuery("dresser", [1.2, 0.5, 0.9], Anchor.floor(room))
+    q = replace(free_q, region=region)
+    free = model.sample(
+        free_q, n=20_000, temperature=0.8, generator=torch.Generator().manual_seed(0)
+    )
+    over = (np.abs(free[:, :2] - [2.5, 2.0]) <= [2.0, 1.5]).all(1)
+    boxes, mass = model.draw(q, n=4000, temperature=0.8, generator=torch.Generator().manual_seed(1))
+    assert (np.abs(boxes[:, :2] - [2.5, 2.0]) <= [2.0 + 1e-9, 1.5 + 1e-9]).all()
+    assert 0.3 < over.mean() < 0.995
+    assert mass == pytest.approx(
+        over.mean(), abs=4 * np.sqrt(over.mean() * (1 - over.mean()) / len(free)) + 1e-3
+    )
+    for j in range(2):
+        assert stats.ks_2samp(boxes[:, j], free[over, j]).pvalue > 1e-3

@@ -39,7 +39,15 @@ from pair2scene.model.features import (
 )
 from pair2scene.model.layout import FUNCTIONAL, SUPPORT, LayoutBatch, LayoutPredictor
 from pair2scene.model.layout import LayoutVariant as Variant
-from pair2scene.model.mixture import BOX_DIM, MixtureParams, condition, log_prob, sample
+from pair2scene.model.mixture import (
+    BOX_DIM,
+    MixtureParams,
+    Window,
+    condition,
+    log_prob,
+    sample,
+    window_log_mass,
+)
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR
 
@@ -123,6 +131,11 @@ class PlacementQuery:
     asset: Asset | None = None
     """The dependent's asset (its cloud); None: ``cloud`` or a procedural one."""
     cloud: np.ndarray | None = None
+    region: OrientedBox | None = None
+    """A world box outside whose footprint a candidate's centre would be rejected whatever
+    else (a floor object beyond its reach of the room): :meth:`LayoutModel.sample` then
+    draws only over it, from its distribution restricted there, exactly; samplers that
+    ignore it only waste those draws."""
 
 
 class LayoutModel:
@@ -311,12 +324,46 @@ class LayoutModel:
         mixture: the components are reweighted by how well they explain it), so every
         candidate has the asset's size; False samples the size too.
         """
+        return self.draw(query, n, temperature, generator, keep_size)[0]
+
+    def draw(
+        self,
+        query: PlacementQuery,
+        n: int = 256,
+        temperature: float = 1.0,
+        generator: torch.Generator | None = None,
+        keep_size: bool = True,
+    ) -> tuple[np.ndarray, float]:
+        """:meth:`sample`'s candidates, and the probability that the model (at this
+        temperature) puts a candidate's centre over ``query.region`` (1.0 without one):
+        its draws are confined there (:class:`~pair2scene.model.mixture.Window`), so
+        ``1 - p`` is the share it would have spent where the placer rejects them."""
         params, factors = self.distribution([query])
         if keep_size:
             params = self.condition_on_size(params, [query], factors)
-        y = sample(params, n, temperature, generator)[0]  # (n, 12) mixture space
+        window, mass = None, 1.0
+        if query.region is not None and temperature > 0:
+            window = self._window(query, factors[0], params.loc.dtype)
+            mass = float(window_log_mass(params, window, temperature).exp()[0])
+        y = sample(params, n, temperature, generator, window)[0]  # (n, 12) mixture space
         x = self.predictor.from_mixture_space(y).double().numpy()
-        return self.to_world(x, query, factors[0])
+        return self.to_world(x, query, factors[0]), mass
+
+    def _window(self, query: PlacementQuery, factor: np.ndarray, dtype) -> Window:
+        """``query.region``'s footprint as bounds on the mixture's centre x and y: the
+        interval its corners span in the support's model frame (the world's, ``global``),
+        a box that holds it whatever the two frames' angle."""
+        region = query.region
+        corners = np.array([[sx, sy, 0.0] for sx in (-1, 1) for sy in (-1, 1)])
+        world = (corners * region.half_size) @ region.rotation.T + region.center  # (4, 3)
+        if self.variant is not Variant.GLOBAL:
+            sup = query.support.box
+            local = (world - sup.center) @ sup.rotation / np.maximum(sup.half_size, 1e-9)
+            world = local * factor
+        low, high = world[:, :2].min(0), world[:, :2].max(0)
+        return Window(
+            [0, 1], torch.tensor(low[None], dtype=dtype), torch.tensor(high[None], dtype=dtype)
+        )
 
     def condition_on_size(
         self, params: MixtureParams, queries: Sequence[PlacementQuery], factors: np.ndarray

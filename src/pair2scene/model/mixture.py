@@ -274,11 +274,50 @@ def mode(params: MixtureParams) -> Tensor:
     return params.loc.gather(-2, index).squeeze(-2)
 
 
+class Window(NamedTuple):
+    """An axis-aligned box over some of the mixture's dims: ``low <= x[dims] <= high``."""
+
+    dims: Sequence[int]
+    low: Tensor
+    """(B, len(dims)) lower bounds, one row per mixture."""
+    high: Tensor
+    """(B, len(dims)) upper bounds (>= low)."""
+
+
+def _log_interval(a: Tensor, b: Tensor) -> Tensor:
+    """log(sigmoid(b) - sigmoid(a)) elementwise for a <= b, accurate in both tails (an
+    interval far out on the right is measured mirrored, where sigmoid has no 1 - eps)."""
+    right = a > 0
+    lo, hi = torch.where(right, -b, a), torch.where(right, -a, b)  # lo <= hi, hi <= max(b, -a)
+    log_hi, log_lo = F.logsigmoid(hi), F.logsigmoid(lo)
+    diff = (log_lo - log_hi).clamp_max(0.0)
+    return log_hi + torch.log((-torch.expm1(diff)).clamp_min(0.0))
+
+
+def window_log_mass(params: MixtureParams, window: Window, temperature: float = 1.0) -> Tensor:
+    """Log probability that a draw at ``temperature`` (see :func:`sample`) falls in the
+    window: (B,) (-inf where it cannot)."""
+    a, b = _window_bounds(params, window, temperature)
+    log_w = torch.log_softmax(params.logits / temperature, dim=-1)
+    return torch.logsumexp(log_w + _log_interval(a, b).sum(-1), dim=-1)
+
+
+def _window_bounds(params: MixtureParams, window: Window, temperature: float):
+    """The window's bounds in each component's standardised units: a, b (B, K, len(dims))."""
+    dims = list(window.dims)
+    loc = params.loc[..., dims]
+    scale = params.log_scale[..., dims].exp() * temperature
+    low = window.low.to(loc.dtype).unsqueeze(-2)
+    high = torch.maximum(window.high.to(loc.dtype), window.low.to(loc.dtype)).unsqueeze(-2)
+    return (low - loc) / scale, (high - loc) / scale
+
+
 def sample(
     params: MixtureParams,
     n: int,
     temperature: float = 1.0,
     generator: torch.Generator | None = None,
+    window: Window | None = None,
 ) -> Tensor:
     """Draw ``n`` candidates from each mixture: -> (B, n, D).
 
@@ -288,6 +327,12 @@ def sample(
     heaviest component's location, and T = 0 returns exactly :func:`mode`.
     Logistics are drawn by the inverse CDF, mu + T s log(u / (1 - u)). The
     ``generator`` must live on the parameters' device.
+
+    window : draws confined to it, from the (tempered) mixture restricted to it, exactly
+    the draws that would remain of unconfined ones after discarding those outside:
+    each component is weighted by its mass in the window as well, and each windowed dim
+    drawn by the inverse CDF of its logistic truncated to the interval. A mixture with
+    no mass in its window (none in float64) draws as if it had none. Ignored at T = 0.
     """
     if temperature < 0 or not math.isfinite(temperature):
         raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
@@ -299,15 +344,47 @@ def sample(
         return mode(params).unsqueeze(-2).expand(*batch, n, d).clone()
 
     # torch.multinomial takes at most 2 dims: flatten the batch to M rows.
-    probs = torch.softmax(logits.reshape(-1, k) / temperature, dim=-1)  # (M, K)
+    tempered = logits.reshape(-1, k) / temperature
+    if window is not None:
+        a, b = _window_bounds(params, window, temperature)
+        a, b = (
+            a.double().reshape(-1, k, len(window.dims)),
+            b.double().reshape(-1, k, len(window.dims)),
+        )
+        log_mass = _log_interval(a, b).sum(-1)  # (M, K)
+        empty = torch.isinf(torch.logsumexp(tempered.double() + log_mass, -1))  # (M,)
+        # A row with no mass in its window is drawn unconfined: its bounds are opened.
+        log_mass = torch.where(empty[:, None], 0.0, log_mass)
+        a = torch.where(empty[:, None, None], -math.inf, a)
+        b = torch.where(empty[:, None, None], math.inf, b)
+        tempered = (tempered.double() + log_mass).to(tempered.dtype)
+    probs = torch.softmax(tempered, dim=-1)  # (M, K)
     comp = torch.multinomial(probs, n, replacement=True, generator=generator)  # (M, n)
     index = comp.unsqueeze(-1).expand(-1, -1, d)  # (M, n, D)
     mu = loc.reshape(-1, k, d).gather(1, index)  # (M, n, D)
     scale = log_scale.reshape(-1, k, d).gather(1, index).exp() * temperature  # (M, n, D)
     u = torch.rand(mu.shape, generator=generator, dtype=mu.dtype, device=mu.device)
     u = u.clamp_min(torch.finfo(mu.dtype).tiny)  # rand is in [0, 1): only 0 needs care
-    x = mu + scale * (torch.log(u) - torch.log1p(-u))
+    z = torch.log(u) - torch.log1p(-u)
+    if window is not None:
+        dims = list(window.dims)
+        pick = comp.unsqueeze(-1).expand(-1, -1, len(dims))
+        z[..., dims] = _truncated_logistic(
+            a.gather(1, pick), b.gather(1, pick), u[..., dims].double()
+        ).to(z.dtype)
+    x = mu + scale * z
     return x.reshape(*batch, n, d)  # (B, n, D)
+
+
+def _truncated_logistic(a: Tensor, b: Tensor, u: Tensor) -> Tensor:
+    """Standard logistic draws truncated to [a, b] by the inverse CDF at ``u`` in [0, 1)
+    (an interval in the right tail drawn mirrored, where the CDF keeps its precision)."""
+    right = a > 0
+    lo, hi = torch.where(right, -b, a), torch.where(right, -a, b)
+    p_lo, p_hi = torch.sigmoid(lo), torch.sigmoid(hi)
+    p = (p_lo + u * (p_hi - p_lo)).clamp(torch.finfo(u.dtype).tiny, 1.0 - 1e-16)
+    z = (torch.log(p) - torch.log1p(-p)).clamp(lo, hi)
+    return torch.where(right, -z, z)
 
 
 # -- box vector <-> (centre, size, rotation) -----------------------------------------
