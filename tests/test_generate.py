@@ -51,6 +51,16 @@ def test_the_room_holds_its_furniture(p2s):
         assert 0 < share <= MAX_FLOOR_SHARE, (seed, share)
 
 
+def test_a_beyond_scene_has_the_surfaces_for_its_objects(p2s):
+    """A beyond bedroom of 80 objects gets furniture enough to carry them: seed 21 drew a
+    four-piece template (bed, dog bed, dresser, side table), and with one extra piece per
+    10 objects counted on every piece, 36 of its 80 objects found no free surface (40
+    placed)."""
+    g = p2s.generate(room="bedroom", seed=21, mode="beyond", max_objects=80)
+    full = [d for d in g.stats["dropped"] if "no free surface" in d["reason"]]
+    assert g.stats["objects_placed"] >= 70 and len(full) <= 5, (g.stats["objects_placed"], full)
+
+
 def test_text_scene(p2s):
     g = p2s.generate(
         text="a bedroom with two nightstands and a lamp on each nightstand", llm="never"

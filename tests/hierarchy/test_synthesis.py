@@ -15,7 +15,9 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy
 from pair2scene.hierarchy.llm import hierarchy_from_llm, hierarchy_from_reply
 from pair2scene.hierarchy.synthesis import (
+    Statistics,
     SynthesisConfig,
+    capacity,
     load_stats,
     synthesize,
     training_mean,
@@ -43,6 +45,20 @@ def test_beyond_reaches_the_requested_density(stats):
         h = synthesize(stats, "bedroom", SynthesisConfig("beyond", max_objects=80, seed=seed))
         assert len(h) >= 60
         assert h.category_counts().get("bed", 0) >= 1
+
+
+def test_beyond_adds_furniture_until_it_can_carry_the_objects(stats):
+    """Extra pieces are added until the furniture's capacity covers the target, and only
+    pieces that carry objects (no sixth bed or third chair)."""
+    st = Statistics(stats)
+    for seed in range(10):
+        h = synthesize(stats, "bedroom", SynthesisConfig("beyond", max_objects=80, seed=seed))
+        floor = [n.category for n in h.children(FLOOR)]
+        assert sum(1 + capacity(st, c) for c in floor) >= 80, (seed, floor)
+        fit = synthesize(stats, "bedroom", SynthesisConfig("fit", seed=seed))
+        fit_floor = [n.category for n in fit.children(FLOOR)]
+        for cat in ("bed", "chair", "armchair"):  # the (same) template's, never extra
+            assert floor.count(cat) == fit_floor.count(cat), (seed, floor, fit_floor)
 
 
 def test_same_seed_same_hierarchy(stats):

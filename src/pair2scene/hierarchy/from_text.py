@@ -163,7 +163,7 @@ def hierarchy_from_spec(
     if config.mode == "beyond":
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
         if rs is not None:
-            extra = extra_furniture(st, rs, target, len(h), rng)
+            extra = extra_furniture(st, rs, target, [n.category for n in h.nodes], rng)
             add_floor_furniture(h, [c for c in extra if c not in named], st, rng)
     elif rs is not None:
         target = int(_draw(rs.object_counts, rng))

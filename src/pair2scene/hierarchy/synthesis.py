@@ -21,9 +21,9 @@ Modes:
   the scene has ``N_max`` objects or a pass adds nothing: object counts follow the
   training distribution.
 - ``beyond``: ``N_max`` is ``max_objects`` (default 80); extra floor furniture that holds
-  objects (shelves, tables, dressers seen in that room type) is added to the template, one
-  piece per ~10 requested objects, and passes repeat until ``N_max``: scenes denser than
-  any training room.
+  objects (shelves, tables, dressers seen in that room type) is added to the template
+  until its pieces can carry ``N_max`` objects (:func:`capacity`), and passes repeat until
+  ``N_max``: scenes denser than any training room.
 
 Everything draws from one ``numpy.random.Generator`` seeded by ``seed``: same seed, same
 statistics, same hierarchy.
@@ -55,9 +55,14 @@ MAX_K_BOOST = 64.0
 """A pass that adds nothing doubles k for the next one (rare dependents of few anchors,
 as in bathrooms), up to this factor: the proportions between candidates stay the
 statistics', only the pace changes."""
-OBJECTS_PER_EXTRA_FURNITURE = 10
-"""``beyond``: one extra piece of furniture that holds objects per this many requested
-objects beyond what the template holds."""
+BEYOND_LOAD = 1.5
+"""``beyond``: a piece of furniture is counted on to carry this many times the objects a
+piece of its category carried in the training rooms (a dresser 3.7 x 1.5 = 5.5, a side
+table 3.1, a bed 0.7). Placement finds full surfaces at about that load: in 40 beyond
+bedrooms, dressers its balance step found full carried 3-10 objects, side tables 3-7.
+Counting each template piece as carrying 10 left bedrooms of eight pieces (beds, chairs,
+one dresser) without extra furniture, and up to half of their 80 objects without a
+surface."""
 
 
 @dataclass(frozen=True)
@@ -251,7 +256,7 @@ def synthesize(
             target = min(target, config.max_objects)
     else:
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
-        template += extra_furniture(st, rs, target, len(template), rng)
+        template += extra_furniture(st, rs, target, template, rng)
     if len(template) > target:
         template = [template[i] for i in sorted(rng.permutation(len(template))[:target])]
         h.notes.append(f"template cut to {target} pieces by the object cap")
@@ -265,19 +270,30 @@ def synthesize(
     return h.validate()
 
 
-def extra_furniture(st: Statistics, rs, target: int, have: int, rng) -> list[str]:
-    """``beyond``: furniture of this room type that holds objects, one piece per
-    :data:`OBJECTS_PER_EXTRA_FURNITURE` objects beyond the template's share. Categories
-    no training room of the type had twice of (beds) are not repeated."""
+def capacity(st: Statistics, category: str) -> float:
+    """``beyond``: how many objects a piece of ``category`` is counted on to carry,
+    :data:`BEYOND_LOAD` times its training mean (0 for furniture nothing rests on)."""
+    return BEYOND_LOAD * sum(rate for _, rate in st.dependents(category))
+
+
+def extra_furniture(st: Statistics, rs, target: int, have: list[str], rng) -> list[str]:
+    """``beyond``: furniture of this room type that holds objects, added until the scene's
+    pieces (``have``'s and the extra ones, each counting itself and its
+    :func:`capacity`) can carry ``target`` objects. A category is drawn by how many
+    training rooms of the type had it; furniture counted on for less than one object
+    (beds, chairs) is not added."""
     counts = rs.furniture_counts()
     pool = Counter(
-        {c: sum(n for k, n in hist.items() if k > 0) for c, hist in counts.items()
-         if holds_objects(st, c) and max(hist) >= 2}
+        {c: sum(n for k, n in hist.items() if k > 0)
+         for c, hist in counts.items() if capacity(st, c) >= 1}
     )  # fmt: skip
-    if not pool:
-        return []
-    n_extra = max(0, (target - have * OBJECTS_PER_EXTRA_FURNITURE) // OBJECTS_PER_EXTRA_FURNITURE)
-    return [_draw(pool, rng) for _ in range(n_extra)]
+    carried = sum(1 + capacity(st, c) for c in have)
+    extra: list[str] = []
+    while pool and carried < target and len(have) + len(extra) < target:
+        cat = _draw(pool, rng)
+        extra.append(cat)
+        carried += 1 + capacity(st, cat)
+    return extra
 
 
 def stats_summary(stats: HierarchyStats) -> str:
