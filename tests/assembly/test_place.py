@@ -259,3 +259,43 @@ def test_floor_draws_are_confined_to_the_room_and_the_rest_reported(placer):
     outside = result.scene.stats["model_mass_outside_room"]
     assert outside == pytest.approx(np.mean([1 - m for _, _, m in floor]), abs=1e-4)
     assert all(q.region is None for q, _, _ in seen if not q.support.is_floor)
+
+
+class _AgainstTheWall:
+    """A dresser flush against the wall y = 4, and on it a candidate whose base rests
+    on the top's back edge while its leaves (its box) reach through the wall."""
+
+    def __init__(self):
+        self.drawn = {}
+
+    def sample(self, query, n, temperature=1.0, generator=None):
+        from pair2scene.assets.surfaces import surfaces_of
+
+        size = np.asarray(query.size, float)
+        if query.support.is_floor:
+            box = OrientedBox.from_yaw([2.0, 4.0 - size[1] / 2, size[2] / 2], size, 0.0)
+        else:
+            sup = query.support
+            top = max(surfaces_of(sup.asset), key=lambda s: s.polygon[:, 1].max())
+            base = contact_rectangle(query.asset)[:, 1].max()
+            y = sup.box.center[1] + top.polygon[:, 1].max() - base - 0.005
+            box = OrientedBox.from_yaw([2.0, y, sup.box.top + size[2] / 2], size, 0.0)
+        self.drawn[query.category] = box
+        return np.repeat(box.to_vector()[None], n, axis=0)
+
+
+def test_an_object_on_a_support_does_not_reach_through_a_wall():
+    """Objects on a support were tested against the walls only through their support:
+    a plant whose pot stood at the back edge of a dresser flush against the wall had its
+    leaves through the wall (and a book overhanging that edge fell in simulation). It is
+    moved into the room like a floor object (within the support's nudge)."""
+    h = Hierarchy("bedroom")
+    dresser = h.add("dresser", FLOOR)
+    h.add("house_plant", dresser.id)
+    model = _AgainstTheWall()
+    result = Placer(model).place(h.validate(), _door_room(), seed=0)
+    assert result.stats.placed == 2, result.stats.dropped
+    plant = next(o for o in result.scene.objects if o.category == "house_plant")
+    assert model.drawn["house_plant"].corners()[:, 1].max() > 4.05  # drawn through it
+    assert plant.box.corners()[:, 1].max() <= 4.0 + 2e-3
+    assert result.stats.repaired >= 1

@@ -52,6 +52,7 @@ from pair2scene.assembly.rest import (
     dropped,
     footprint,
     into_room,
+    on_floor,
     rest_on_surfaces,
 )
 from pair2scene.assembly.sizes import SizeTable
@@ -151,7 +152,8 @@ class AssemblyStats:
     """Accepted candidates that were nudged (onto the surface, into the room, clear of a
     neighbour) rather than taken as drawn."""
     rejections: dict[str, int] = field(default_factory=dict)
-    """Rejected candidates by reason: unsupported, outside, ceiling, door, collision."""
+    """Rejected candidates by reason: unsupported, outside, wall (on a support, through a
+    wall), ceiling, door, collision."""
     outside_mass: list[float] = field(default_factory=list)
     """Per floor object: the model's probability of a candidate out of the room's reach
     (:func:`floor_region`), where it no longer draws (``AssemblyConfig.confine``)."""
@@ -455,9 +457,12 @@ class Placer:
             reason, hits = self._blocked(rested, ctx)
             if reason is None:
                 return rested, None, moved
-            if reason not in ("collision", "door") or attempt == cfg.push_attempts:
+            if reason not in ("collision", "door", "wall") or attempt == cfg.push_attempts:
                 return None, reason, moved
-            if reason == "door":  # out of the swing, like out of a neighbour
+            if reason == "wall":  # back into the room, as a floor object would be
+                inside = into_room(rested, ctx.room.floor_polygon, self._repair(ctx))
+                push = np.zeros(3) if inside is None else inside.center - rested.center
+            elif reason == "door":  # out of the swing, like out of a neighbour
                 mine = footprint(rested)[1:]
                 push = clearing_move([(mine, footprint(ctx.doors[0][i])[1:]) for i in hits])
             else:
@@ -509,8 +514,11 @@ class Placer:
         return self.config.floor_repair_m if ctx.support == FLOOR else self.config.repair_m
 
     def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list]:
-        """Why a resting candidate cannot stay ("door", "collision") and what it hits (the
-        doors' indices, the objects' ids)."""
+        """Why a resting candidate cannot stay ("wall": an object on a support reaching
+        through a wall, "door", "collision") and what it hits (the doors' indices, the
+        objects' ids)."""
+        if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
+            return "wall", []
         margin = self.config.tolerances.box_margin
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
         if ctx.support == FLOOR and ctx.doors[0]:
