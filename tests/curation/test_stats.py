@@ -68,6 +68,8 @@ def test_counts():
     assert stats.templates("bedroom") == [({"bed": 1, "side_table": 2}, 2)]
     assert bedroom.furniture_counts() == {"bed": {1: 2}, "side_table": {2: 2}}
     assert bedroom.object_counts == {5: 1, 4: 1}
+    assert bedroom.layout_counts == {(("bed", "side_table", "side_table"), 5): 1,
+                                     (("bed", "side_table", "side_table"), 4): 1}  # fmt: skip
     assert stats.templates("kitchen") == [({"counter_top": 1, "fridge": 1}, 1)]
     assert stats.room_types["kitchen"].object_counts == {5: 1}
     assert stats.templates("bathroom") == []
@@ -107,6 +109,20 @@ def test_json_round_trip():
     back = HierarchyStats.from_json(text)
     assert back.to_json() == text
     assert back.sup_dep == stats.sup_dep and back.func_dep == stats.func_dep
+    assert back.room_types["bedroom"].layout_counts == stats.room_types["bedroom"].layout_counts
+    (template,) = doc["room_types"]["bedroom"]["templates"]
+    assert template["object_counts"] == {"4": 1, "5": 1}
+
+
+def test_statistics_without_joint_counts_still_load():
+    """Files written before the per-template counts: both marginals, no joint."""
+    doc = json.loads(HierarchyStats.fit(scenes()).to_json())
+    for rd in doc["room_types"].values():
+        for t in rd["templates"]:
+            del t["object_counts"]
+    old = HierarchyStats.from_dict(doc)
+    assert old.room_types["bedroom"].layout_counts == {}
+    assert old.room_types["bedroom"].object_counts == {5: 1, 4: 1}
 
 
 @pytest.mark.parametrize(

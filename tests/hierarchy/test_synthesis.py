@@ -119,6 +119,31 @@ def test_fit_rooms_are_furnished(stats):
         assert not any("cut" in note for note in h.notes), (seed, h.notes)
 
 
+def test_fit_rooms_take_a_training_rooms_furniture_and_count(stats):
+    """Template and object count are one training room's, drawn together: drawn apart,
+    a one-dresser template took another room's 30 objects and placement found no free
+    surface for a third of them. The old-style statistics (no joint counts) still give
+    furnished rooms of at least their furniture's size."""
+    bedroom = stats.room_types["bedroom"]
+    assert bedroom.layout_counts  # the bundled statistics keep them
+    hit = 0
+    for seed in range(40):
+        h = synthesize(stats, "bedroom", SynthesisConfig(seed=seed))
+        floor = tuple(sorted(n.category for n in h.children(FLOOR)))
+        counts = {c for (layout, c) in bedroom.layout_counts if layout == floor}
+        assert counts, (seed, floor)
+        hit += len(h) in counts
+    assert hit >= 36  # the rest: the statistics offer fewer dependents than the count
+    doc = stats.to_dict()
+    for rd in doc["room_types"].values():
+        for t in rd["templates"]:
+            t.pop("object_counts", None)
+    old = HierarchyStats.from_dict(doc)
+    for seed in range(10):
+        h = synthesize(old, "bedroom", SynthesisConfig(seed=seed))
+        assert len(h) >= len(h.children(FLOOR)) > 0
+
+
 def test_fit_cap(stats):
     for seed in range(20):
         assert len(synthesize(stats, "kitchen", SynthesisConfig(max_objects=5, seed=seed))) <= 5

@@ -52,6 +52,10 @@ class RoomTypeStats:
     """Sorted multiset of template categories (repeats kept) -> number of rooms with it."""
     object_counts: Counter[int] = field(default_factory=Counter)
     """Number of placed objects in a room -> number of rooms."""
+    layout_counts: Counter[tuple[tuple[str, ...], int]] = field(default_factory=Counter)
+    """(layout, number of placed objects) of a room -> number of rooms: which counts went
+    with which furniture (a room of one dresser held 12 objects, not 30). Empty in
+    statistics written before it was kept (then only the two marginals are known)."""
 
     def templates(self, top: int | None = None) -> list[tuple[dict[str, int], int]]:
         """The ``top`` most frequent furniture multisets as ({category: count}, rooms),
@@ -74,6 +78,15 @@ class RoomTypeStats:
         self.rooms += other.rooms
         self.layouts.update(other.layouts)
         self.object_counts.update(other.object_counts)
+        self.layout_counts.update(other.layout_counts)
+
+
+def _joint_counts(rs: RoomTypeStats, furniture: dict[str, int]) -> dict:
+    """A template's ``object_counts`` entry: placed objects -> rooms, for the rooms with
+    exactly that furniture ({} when the statistics do not have it)."""
+    key = tuple(sorted(c for c, n in furniture.items() for _ in range(n)))
+    joint = {count: n for (layout, count), n in rs.layout_counts.items() if layout == key}
+    return {"object_counts": {str(k): joint[k] for k in sorted(joint)}} if joint else {}
 
 
 @dataclass
@@ -117,8 +130,10 @@ class HierarchyStats:
                 per_support.setdefault(func, Counter())[o.category] += 1
         room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
         room.rooms += 1
-        room.layouts[tuple(sorted(o.category for o in placed if _is_template_member(o)))] += 1
+        layout = tuple(sorted(o.category for o in placed if _is_template_member(o)))
+        room.layouts[layout] += 1
         room.object_counts[len(placed)] += 1
+        room.layout_counts[layout, len(placed)] += 1
         self.rooms += 1
 
     @classmethod
@@ -154,7 +169,9 @@ class HierarchyStats:
         for rtype, rs in sorted(self.room_types.items()):
             room_types[rtype] = {
                 "rooms": rs.rooms,
-                "templates": [{"furniture": f, "rooms": n} for f, n in rs.templates()],
+                "templates": [
+                    {"furniture": f, "rooms": n, **_joint_counts(rs, f)} for f, n in rs.templates()
+                ],
                 "furniture_counts": {
                     cat: {str(k): v for k, v in hist.items()}
                     for cat, hist in rs.furniture_counts().items()
@@ -199,6 +216,8 @@ class HierarchyStats:
                 for t in rd["templates"]:
                     key = tuple(sorted(c for c, n in t["furniture"].items() for _ in range(int(n))))
                     rs.layouts[key] += int(t["rooms"])
+                    for k, v in t.get("object_counts", {}).items():
+                        rs.layout_counts[key, int(k)] += int(v)
                 rs.object_counts = Counter({int(k): int(v) for k, v in rd["object_counts"].items()})
                 out.room_types[rtype] = rs
         except (KeyError, TypeError, ValueError, AttributeError) as e:

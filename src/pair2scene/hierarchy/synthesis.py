@@ -244,14 +244,13 @@ def synthesize(
     rs = st.room(room_type)
     rng = np.random.default_rng(config.seed)
     h = Hierarchy(room_type)
-    # A training room with no furniture (or a count below its own furniture's) would
-    # give an empty or one-piece scene: a room is drawn from the furnished ones, and its
-    # object count from those that hold the drawn furniture.
-    template = list(_draw(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
-                          rng))  # fmt: skip
+    # A training room with no furniture would give an empty scene: a room is drawn from
+    # the furnished ones. In fit mode its furniture and object count are a training
+    # room's, drawn together (a one-dresser template with another room's 30 objects
+    # piled them on the dresser); statistics without the joint counts give the count
+    # from the rooms that hold at least the drawn furniture.
+    template, target = _draw_room(rs, config.mode == "fit", rng)
     if config.mode == "fit":
-        counts = Counter({k: v for k, v in rs.object_counts.items() if k >= len(template)})
-        target = int(_draw(counts or rs.object_counts, rng))
         if config.max_objects is not None:
             target = min(target, config.max_objects)
     else:
@@ -274,6 +273,20 @@ def capacity(st: Statistics, category: str) -> float:
     """``beyond``: how many objects a piece of ``category`` is counted on to carry,
     :data:`BEYOND_LOAD` times its training mean (0 for furniture nothing rests on)."""
     return BEYOND_LOAD * sum(rate for _, rate in st.dependents(category))
+
+
+def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
+    """A furnished training room's template and (``with_count``) object count."""
+    joint = Counter({k: v for k, v in rs.layout_counts.items() if k[0]})
+    if with_count and joint:
+        layout, count = _draw(joint, rng)
+        return list(layout), int(count)
+    template = list(_draw(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
+                          rng))  # fmt: skip
+    if not with_count:
+        return template, 0
+    counts = Counter({k: v for k, v in rs.object_counts.items() if k >= len(template)})
+    return template, int(_draw(counts or rs.object_counts, rng))
 
 
 def extra_furniture(st: Statistics, rs, target: int, have: list[str], rng) -> list[str]:
