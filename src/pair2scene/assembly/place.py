@@ -168,6 +168,11 @@ class AssemblyStats:
     def resamples_per_object(self) -> float:
         return float(np.mean(self.resamples)) if self.resamples else 0.0
 
+    @property
+    def mass_outside_room(self) -> float:
+        """Mean of :attr:`outside_mass` over the floor objects (0 without any)."""
+        return float(np.mean(self.outside_mass)) if self.outside_mass else 0.0
+
     def to_dict(self) -> dict:
         return {
             "objects_requested": self.requested,
@@ -177,9 +182,7 @@ class AssemblyStats:
             "moved": self.moved,
             "repaired": self.repaired,
             "rejections": dict(sorted(self.rejections.items())),
-            "model_mass_outside_room": round(float(np.mean(self.outside_mass)), 4)
-            if self.outside_mass
-            else 0.0,
+            "model_mass_outside_room": round(self.mass_outside_room, 4),
             "dropped": self.dropped,
             "seconds": {k: round(v, 4) for k, v in self.seconds.items()},
         }
