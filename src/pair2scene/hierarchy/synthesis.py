@@ -167,11 +167,6 @@ def _stochastic_round(x: float, rng: np.random.Generator) -> int:
     return whole + int(rng.random() < x - whole)
 
 
-def holds_objects(stats: Statistics, category: str) -> bool:
-    """Whether objects were seen resting on ``category`` (a surface worth adding)."""
-    return bool(stats.dependents(category))
-
-
 def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
     """Template order: categories that serve as functional anchors on the floor first
     (tables before the chairs at them), then by name; stable for equal keys."""
