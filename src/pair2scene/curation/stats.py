@@ -81,10 +81,15 @@ class RoomTypeStats:
         self.layout_counts.update(other.layout_counts)
 
 
+def _layout_key(furniture: dict[str, int]) -> tuple[str, ...]:
+    """{category: count} -> the sorted multiset :attr:`RoomTypeStats.layouts` is keyed by."""
+    return tuple(sorted(c for c, n in furniture.items() for _ in range(int(n))))
+
+
 def _joint_counts(rs: RoomTypeStats, furniture: dict[str, int]) -> dict:
     """A template's ``object_counts`` entry: placed objects -> rooms, for the rooms with
     exactly that furniture ({} when the statistics do not have it)."""
-    key = tuple(sorted(c for c, n in furniture.items() for _ in range(n)))
+    key = _layout_key(furniture)
     joint = {count: n for (layout, count), n in rs.layout_counts.items() if layout == key}
     return {"object_counts": {str(k): joint[k] for k in sorted(joint)}} if joint else {}
 
@@ -214,7 +219,7 @@ class HierarchyStats:
             for rtype, rd in doc["room_types"].items():
                 rs = RoomTypeStats(rooms=int(rd["rooms"]))
                 for t in rd["templates"]:
-                    key = tuple(sorted(c for c, n in t["furniture"].items() for _ in range(int(n))))
+                    key = _layout_key(t["furniture"])
                     rs.layouts[key] += int(t["rooms"])
                     for k, v in t.get("object_counts", {}).items():
                         rs.layout_counts[key, int(k)] += int(v)

@@ -284,32 +284,40 @@ class Window(NamedTuple):
     """(B, len(dims)) upper bounds (>= low)."""
 
 
-def _log_interval(a: Tensor, b: Tensor) -> Tensor:
-    """log(sigmoid(b) - sigmoid(a)) elementwise for a <= b, accurate in both tails (an
-    interval far out on the right is measured mirrored, where sigmoid has no 1 - eps)."""
+def _mirrored(a: Tensor, b: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """Standardised intervals [a, b] moved off the right tail: where a > 0 the interval
+    is mirrored to [-b, -a], where sigmoid keeps its digits (near 1 it has none).
+    Returns (mirrored, lo, hi)."""
     right = a > 0
-    lo, hi = torch.where(right, -b, a), torch.where(right, -a, b)  # lo <= hi, hi <= max(b, -a)
+    return right, torch.where(right, -b, a), torch.where(right, -a, b)
+
+
+def _log_interval(a: Tensor, b: Tensor) -> Tensor:
+    """log(sigmoid(b) - sigmoid(a)) elementwise for a <= b, accurate in both tails."""
+    _, lo, hi = _mirrored(a, b)
     log_hi, log_lo = F.logsigmoid(hi), F.logsigmoid(lo)
     diff = (log_lo - log_hi).clamp_max(0.0)
     return log_hi + torch.log((-torch.expm1(diff)).clamp_min(0.0))
 
 
-def window_log_mass(params: MixtureParams, window: Window, temperature: float = 1.0) -> Tensor:
-    """Log probability that a draw at ``temperature`` (see :func:`sample`) falls in the
-    window: (B,) (-inf where it cannot)."""
-    a, b = _window_bounds(params, window, temperature)
-    log_w = torch.log_softmax(params.logits / temperature, dim=-1)
-    return torch.logsumexp(log_w + _log_interval(a, b).sum(-1), dim=-1)
-
-
-def _window_bounds(params: MixtureParams, window: Window, temperature: float):
-    """The window's bounds in each component's standardised units: a, b (B, K, len(dims))."""
+def _window_terms(params: MixtureParams, window: Window, temperature: float):
+    """The window in each component's standardised units, a and b (..., K, len(dims)),
+    and each component's log mass in it (..., K); returned as float64."""
     dims = list(window.dims)
     loc = params.loc[..., dims]
     scale = params.log_scale[..., dims].exp() * temperature
     low = window.low.to(loc.dtype).unsqueeze(-2)
     high = torch.maximum(window.high.to(loc.dtype), window.low.to(loc.dtype)).unsqueeze(-2)
-    return (low - loc) / scale, (high - loc) / scale
+    a, b = ((low - loc) / scale).double(), ((high - loc) / scale).double()
+    return a, b, _log_interval(a, b).sum(-1)
+
+
+def window_log_mass(params: MixtureParams, window: Window, temperature: float = 1.0) -> Tensor:
+    """Log probability that a draw at ``temperature`` (see :func:`sample`) falls in the
+    window: (B,) float64 (-inf where it cannot)."""
+    log_mass = _window_terms(params, window, temperature)[2]
+    log_w = torch.log_softmax(params.logits.double() / temperature, dim=-1)
+    return torch.logsumexp(log_w + log_mass, dim=-1)
 
 
 def sample(
@@ -346,12 +354,9 @@ def sample(
     # torch.multinomial takes at most 2 dims: flatten the batch to M rows.
     tempered = logits.reshape(-1, k) / temperature
     if window is not None:
-        a, b = _window_bounds(params, window, temperature)
-        a, b = (
-            a.double().reshape(-1, k, len(window.dims)),
-            b.double().reshape(-1, k, len(window.dims)),
-        )
-        log_mass = _log_interval(a, b).sum(-1)  # (M, K)
+        a, b, log_mass = _window_terms(params, window, temperature)
+        m = len(window.dims)
+        a, b, log_mass = a.reshape(-1, k, m), b.reshape(-1, k, m), log_mass.reshape(-1, k)
         empty = torch.isinf(torch.logsumexp(tempered.double() + log_mass, -1))  # (M,)
         # A row with no mass in its window is drawn unconfined: its bounds are opened.
         log_mass = torch.where(empty[:, None], 0.0, log_mass)
@@ -378,9 +383,8 @@ def sample(
 
 def _truncated_logistic(a: Tensor, b: Tensor, u: Tensor) -> Tensor:
     """Standard logistic draws truncated to [a, b] by the inverse CDF at ``u`` in [0, 1)
-    (an interval in the right tail drawn mirrored, where the CDF keeps its precision)."""
-    right = a > 0
-    lo, hi = torch.where(right, -b, a), torch.where(right, -a, b)
+    (drawn on the :func:`_mirrored` interval and mirrored back)."""
+    right, lo, hi = _mirrored(a, b)
     p_lo, p_hi = torch.sigmoid(lo), torch.sigmoid(hi)
     p = (p_lo + u * (p_hi - p_lo)).clamp(torch.finfo(u.dtype).tiny, 1.0 - 1e-16)
     z = (torch.log(p) - torch.log1p(-p)).clamp(lo, hi)
