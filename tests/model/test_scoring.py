@@ -9,7 +9,7 @@ import pytest
 from scipy import stats
 
 from pair2scene.cli import app, main
-from pair2scene.cli_model import score_command
+from pair2scene.cli.model import score_command
 from pair2scene.curation.dataset import PairsDataset, load_pairs
 from pair2scene.errors import UserError
 from pair2scene.model.baseline import GaussianBaseline, GaussianConfig

@@ -12,12 +12,12 @@ from typing import Annotated
 
 import typer
 
-from pair2scene.cli_assets import assets_app
-from pair2scene.cli_curate import curate
-from pair2scene.cli_evaluate import evaluate_command
-from pair2scene.cli_generate import generate_command
-from pair2scene.cli_hierarchy import hierarchy_command
-from pair2scene.cli_model import pretrain_command, score_command, train_command
+from pair2scene.cli.assets import assets_app
+from pair2scene.cli.curate import curate
+from pair2scene.cli.evaluate import evaluate_command
+from pair2scene.cli.generate import generate_command
+from pair2scene.cli.hierarchy import hierarchy_command
+from pair2scene.cli.model import pretrain_command, score_command, train_command
 from pair2scene.errors import UserError
 
 app = typer.Typer(
