@@ -51,12 +51,12 @@ def run(p2s, mode: str, scenes: int, max_objects: int | None) -> dict:
         phys = physical_report(g.scene, g.assets, simulate=False)
         rows.append({
             "seconds": wall,
-            "objects": g.stats["objects_placed"],
-            "acceptance": g.stats["acceptance_rate"],
-            "resamples": g.stats["resamples_per_object"],
+            "objects": g.stats.objects_placed,
+            "acceptance": g.stats.acceptance_rate,
+            "resamples": g.stats.assembly.resamples_per_object,
             "collision_rate": phys["collision_rate"],
             "floating": len(phys["floating"]),
-            "rejections": g.stats["rejections"],
+            "rejections": g.stats.assembly.rejections,
         })  # fmt: skip
         print(f"{mode} {seed}: {rows[-1]}", file=sys.stderr)
     rej: dict[str, int] = {}

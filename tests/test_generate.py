@@ -34,7 +34,7 @@ def test_api_generates_a_seeded_scene(p2s):
     for o in a.scene.objects:
         assert o.support == "floor" or o.support in ids
         assert o.functional_anchor is None or o.functional_anchor in ids
-    assert a.stats["objects_placed"] == len(a.scene.objects)
+    assert a.stats.objects_placed == len(a.scene.objects)
     assert set(a.assets) == ids
 
 
@@ -57,8 +57,8 @@ def test_a_beyond_scene_has_the_surfaces_for_its_objects(p2s):
     10 objects counted on every piece, 36 of its 80 objects found no free surface (40
     placed)."""
     g = p2s.generate(room="bedroom", seed=21, mode="beyond", max_objects=80)
-    full = [d for d in g.stats["dropped"] if "no free surface" in d["reason"]]
-    assert g.stats["objects_placed"] >= 70 and len(full) <= 5, (g.stats["objects_placed"], full)
+    full = [d for d in g.stats.dropped if "no free surface" in d["reason"]]
+    assert g.stats.objects_placed >= 70 and len(full) <= 5, (g.stats.objects_placed, full)
 
 
 def test_text_scene(p2s):
@@ -136,12 +136,12 @@ def partial_scene(tmp_path, p2s, overlap: bool = False):
 def test_keep_fills_in_around_fixed_objects(tmp_path, p2s):
     path, kept = partial_scene(tmp_path, p2s)
     g = p2s.generate(keep=path, seed=4)
-    assert g.scene.room.type == "bedroom" and g.stats["kept"] == len(kept)
+    assert g.scene.room.type == "bedroom" and g.stats.kept == len(kept)
     by_id = {o.id: o for o in g.scene.objects}
     for o in read_scene(path).objects:  # exactly where they were
         assert by_id[o.id].box.allclose(o.box, atol=1e-9)
     added = [o for o in g.scene.objects if o.id not in kept]
-    assert added and g.stats["objects_placed"] == len(added)
+    assert added and g.stats.objects_placed == len(added)
     # the drawn bed became the kept one: what the hierarchy put on its bed is on it
     assert "bed_0" not in by_id
     assert any(o.support == "my_bed_0" for o in added)
@@ -168,9 +168,9 @@ def test_bad_keep_files_are_one_line_errors(tmp_path, p2s):
 
 def test_settle_keeps_a_placed_scene_at_rest(p2s):
     g = p2s.generate(room="bedroom", seed=1, settle=True)
-    assert g.stats["settle"]["max_motion_m"] < 0.02  # placed at rest: nothing to fall
-    assert "physics" in g.stats["seconds"]
-    assert g.stats["objects_placed"] == len(g.scene.objects)
+    assert g.stats.settle.max_motion_m < 0.02  # placed at rest: nothing to fall
+    assert "physics" in g.stats.to_dict()["seconds"]
+    assert g.stats.objects_placed == len(g.scene.objects)
     again = p2s.generate(room="bedroom", seed=1, settle=True)
     assert dumps_scene(again.scene) == dumps_scene(g.scene)
 

@@ -14,22 +14,28 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, fields, is_dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pair2scene.assembly.keep import Kept, load_keep, merge_keep
-from pair2scene.assembly.place import AssemblyConfig, Placer
+from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
-from pair2scene.hierarchy.synthesis import load_stats
+from pair2scene.hierarchy.synthesis import HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.io.jsondoc import read_json_document
 from pair2scene.scene.model import FLOOR, Scene
+
+if TYPE_CHECKING:  # (the model imports torch: only when a model is loaded)
+    from pair2scene.assets.mesh import Asset
+    from pair2scene.curation.stats import HierarchyStats
+    from pair2scene.model.api import PlacementModel
 
 SUMMARY_FORMAT = "pair2scene.summary"
 SUMMARY_VERSION = 1
@@ -39,30 +45,129 @@ ABLATIONS = {"no-rejection": "reject", "no-gravity": "gravity", "no-confine": "c
 """``--ablation`` name -> the :class:`AssemblyConfig` flag it turns off."""
 
 
-@dataclass
+@dataclass(frozen=True)
+class GenerateConfig:
+    """Every setting of generation, one default each: how a hierarchy is drawn and how it
+    is placed. ``pair2scene generate`` has an option per field (``--hierarchy.k``,
+    ``--assembly.temperature``, ``--assembly.tolerances.touch``...), its docstring as help.
+    """
+
+    hierarchy: HierarchyConfig = HierarchyConfig()
+    """How the support and functional trees are drawn from the statistics."""
+    assembly: AssemblyConfig = AssemblyConfig()
+    """How the hierarchy is placed: candidates, temperature, repairs, loads, ablations."""
+
+
+@dataclass(frozen=True)
+class SettleReport:
+    """What the closing MuJoCo settle of a scene did (:func:`settle_scene`)."""
+
+    dropped: list[dict]
+    """``{"id", "category", "reason"}`` per object that fell or slid, and its dependents."""
+    seconds: float
+    max_motion_m: float
+    """Largest motion of a kept object while settling."""
+    mean_motion_m: float
+    notes: list[str]
+
+
+@dataclass(frozen=True)
+class SceneStats:
+    """What generating one scene took; :meth:`to_dict` is its record in summary.json (and,
+    without ``seconds``, scene.json's ``stats``)."""
+
+    assembly: AssemblyStats
+    """The placement's figures (before any settle)."""
+    mode: str
+    seed: int
+    hierarchy_notes: list[str]
+    """The hierarchy's notes (a template cut, a count not reached) and a kept file's."""
+    kept: int | None = None
+    """Objects kept from a partial scene (``--keep``); None without one."""
+    settle: SettleReport | None = None
+    """The closing settle (``--settle``); None without one."""
+
+    @property
+    def dropped(self) -> list[dict]:
+        """``{"id", "category", "reason"}`` per object not in the scene (placement's, then
+        the settle's)."""
+        return self.assembly.dropped + (self.settle.dropped if self.settle else [])
+
+    @property
+    def objects_placed(self) -> int:
+        return self.assembly.placed - (len(self.settle.dropped) if self.settle else 0)
+
+    @property
+    def acceptance_rate(self) -> float:
+        if self.settle is None:
+            return self.assembly.acceptance_rate
+        return self.objects_placed / max(self.assembly.requested, 1)
+
+    def to_dict(self, timings: bool = True) -> dict:
+        """The JSON record (keys in summary.json's order); ``timings`` False leaves out the
+        ``seconds`` that vary from run to run (scene.json must be byte-identical for a
+        seed)."""
+        out = self.assembly.to_dict()
+        if self.kept is not None:
+            out["kept"] = self.kept
+        if self.settle is not None:
+            out["dropped"] = self.dropped
+            out["objects_placed"] = self.objects_placed
+            out["acceptance_rate"] = round(self.acceptance_rate, 4)
+            out["seconds"]["physics"] = self.settle.seconds
+            out["seconds"]["total"] = round(out["seconds"]["total"] + self.settle.seconds, 4)
+            out["settle"] = {"max_motion_m": self.settle.max_motion_m,
+                             "mean_motion_m": self.settle.mean_motion_m,
+                             "notes": list(self.settle.notes)}  # fmt: skip
+        out["hierarchy_notes"] = list(self.hierarchy_notes)
+        out["mode"] = self.mode
+        out["seed"] = self.seed
+        if not timings:
+            del out["seconds"]
+        return out
+
+
+@dataclass(frozen=True)
 class Generated:
     """One generated scene and what made it."""
 
     scene: Scene
     hierarchy: Hierarchy
-    assets: dict
+    assets: dict[str, Asset]
     """object id -> asset (what scene.glb shows and physics would simulate)."""
-    stats: dict = field(default_factory=dict)
+    stats: SceneStats
 
 
 class Pair2Scene:
-    """The generator: a layout model, hierarchy statistics, size and room tables."""
+    """The generator: a placement model, hierarchy statistics, size and room tables, and
+    the settings (:class:`GenerateConfig`)."""
 
-    def __init__(self, model, stats=None, sizes=None, rooms=None, config=None) -> None:
+    def __init__(
+        self,
+        model: PlacementModel,
+        stats: HierarchyStats | None = None,
+        sizes: SizeTable | None = None,
+        rooms: RoomTable | None = None,
+        config: GenerateConfig | None = None,
+    ) -> None:
         self.model = model
+        self.config = config or GenerateConfig()
+        if (
+            not model.honours_temperature
+            and self.config.assembly.temperature != AssemblyConfig.temperature
+        ):
+            raise UserError(
+                f"{type(model).__name__} draws uniformly: a sampling temperature changes "
+                "nothing for it (leave --assembly.temperature at its default)"
+            )
         self.stats = load_stats() if stats is None else stats
         self.rooms = RoomTable.load() if rooms is None else rooms
-        self.placer = Placer(model, SizeTable.load() if sizes is None else sizes, config,
-                             sup_dep=self.stats.sup_dep)  # fmt: skip
+        self.placer = Placer(model, SizeTable.load() if sizes is None else sizes,
+                             self.config.assembly, sup_dep=self.stats.sup_dep)  # fmt: skip
 
     @classmethod
     def from_pretrained(
-        cls, model: str | Path | None = None, config: AssemblyConfig | None = None
+        cls, model: str | Path | None = None, config: GenerateConfig | None = None
     ) -> Pair2Scene:
         """A placement model by spec (:func:`load_placement_model`: the bundled one, a
         checkpoint folder, or a baseline) with the bundled tables."""
@@ -99,7 +204,7 @@ class Pair2Scene:
             room = partial.room.type
         hierarchy = build_hierarchy(
             None if room is None else room_key(room), text, mode, max_objects, seed,
-            self.stats, llm,
+            self.stats, llm, self.config.hierarchy,
         )  # fmt: skip
         kept_assets: dict = {}
         assets = None
@@ -120,32 +225,23 @@ class Pair2Scene:
             keep=None if partial is None else partial.objects, keep_assets=kept_assets,
             dense=mode == "beyond", assets=assets,
         )  # fmt: skip
-        stats = placement.stats.to_dict()
-        if partial is not None:
-            stats["kept"] = len(partial.objects)
+        report = None
         if settle:
-            placement.scene, physics = settle_scene(
+            placement.scene, report = settle_scene(
                 placement.scene, placement.assets, frozenset(o.id for o in partial.objects)
                 if partial is not None else frozenset(),
             )  # fmt: skip
-            stats["dropped"] += physics["dropped"]
-            stats["objects_placed"] -= len(physics["dropped"])
-            stats["acceptance_rate"] = round(
-                stats["objects_placed"] / max(stats["objects_requested"], 1), 4
-            )
-            stats["seconds"]["physics"] = physics["seconds"]
-            stats["seconds"]["total"] = round(stats["seconds"]["total"] + physics["seconds"], 4)
-            stats["settle"] = {k: v for k, v in physics.items() if k not in ("dropped", "seconds")}
-        stats["hierarchy_notes"] = list(hierarchy.notes) + keep_notes
-        stats["mode"] = mode
-        stats["seed"] = seed
+        stats = SceneStats(
+            placement.stats, mode, seed, list(hierarchy.notes) + keep_notes,
+            kept=None if partial is None else len(partial.objects), settle=report,
+        )  # fmt: skip
         # Timings vary from run to run: summary.json has them, scene.json must not, so that
         # the same seed gives a byte-identical scene.json.
-        placement.scene.stats = {k: v for k, v in stats.items() if k != "seconds"}
+        placement.scene.stats = stats.to_dict(timings=False)
         return Generated(placement.scene, hierarchy, placement.assets, stats)
 
 
-def load_placement_model(spec: str | Path | None = None):
+def load_placement_model(spec: str | Path | None = None) -> PlacementModel:
     """The placement model a ``--model`` spec names; all run through the same placement.
 
     ``default`` / None: the bundled layout model; ``random``: uniform placement
@@ -186,13 +282,35 @@ def ablation_names(ablation: str | Sequence[str] | None) -> list[str]:
 
 
 def ablation_config(
-    ablation: str | Sequence[str] | None, config: AssemblyConfig | None = None
-) -> AssemblyConfig:
-    """``config`` (default: :class:`AssemblyConfig`) with the ablations' steps switched off
-    (``no-rejection``: ``reject=False``; ``no-gravity``: ``gravity=False``;
-    ``no-confine``: ``confine=False``)."""
+    ablation: str | Sequence[str] | None, config: GenerateConfig | None = None
+) -> GenerateConfig:
+    """``config`` (default: :class:`GenerateConfig`) with the ablations' placement steps
+    switched off (``no-rejection``: ``assembly.reject=False``; ``no-gravity``:
+    ``assembly.gravity=False``; ``no-confine``: ``assembly.confine=False``)."""
+    config = config or GenerateConfig()
     flags = {ABLATIONS[name]: False for name in ablation_names(ablation)}
-    return replace(config or AssemblyConfig(), **flags)
+    return replace(config, assembly=replace(config.assembly, **flags))
+
+
+def config_changes(
+    config: GenerateConfig, base: GenerateConfig | None = None
+) -> dict[str, object]:
+    """The settings of ``config`` that differ from ``base`` (the defaults), by dotted path
+    (``{"assembly.max_load": 0.5}``): what summary.json records of them, so a resumed run
+    is the same request."""
+
+    def leaves(obj, prefix: str) -> dict[str, object]:
+        out: dict[str, object] = {}
+        for f in fields(obj):
+            value = getattr(obj, f.name)
+            if is_dataclass(value):
+                out.update(leaves(value, f"{prefix}{f.name}."))
+            else:
+                out[f"{prefix}{f.name}"] = value
+        return out
+
+    default = leaves(base or GenerateConfig(), "")
+    return {k: v for k, v in leaves(config, "").items() if v != default[k]}
 
 
 def set_threads(threads: int | None = None) -> None:
@@ -210,14 +328,13 @@ def set_threads(threads: int | None = None) -> None:
 
 
 def settle_scene(
-    scene: Scene, assets: dict, fixed: frozenset[str] = frozenset()
-) -> tuple[Scene, dict]:
+    scene: Scene, assets: dict[str, Asset], fixed: frozenset[str] = frozenset()
+) -> tuple[Scene, SettleReport]:
     """A short MuJoCo settle of the whole scene (pair2scene.curation.physics: contacts
     push shallow overlaps apart, then 1 s under gravity): every free object takes its
     resting pose; one that moves more than 5 cm or tips over is dropped with its
     dependents. ``fixed`` objects (kept by the user) are never dropped and keep their
-    pose. Returns the scene and ``{"dropped", "seconds", "max_motion_m",
-    "mean_motion_m"}``."""
+    pose. Returns the settled scene and what the settle did."""
     from dataclasses import replace
 
     from pair2scene.curation.physics import PhysicsConfig, validate_physics
@@ -236,16 +353,16 @@ def settle_scene(
             o = replace(o, functional_anchor=None)
         objects.append(o)
     motion = [m for oid, (m, _) in outcome.motion.items() if oid not in dropped]
-    report = {
-        "dropped": [
+    report = SettleReport(
+        dropped=[
             {"id": k, "category": by_id[k].category, "reason": f"physics: {v}"}
             for k, v in dropped.items()
-        ],  # fmt: skip
-        "seconds": round(outcome.seconds, 4),
-        "max_motion_m": round(float(max(motion, default=0.0)), 4),
-        "mean_motion_m": round(float(np.mean(motion)) if motion else 0.0, 4),
-        "notes": list(outcome.notes),
-    }
+        ],
+        seconds=round(outcome.seconds, 4),
+        max_motion_m=round(float(max(motion, default=0.0)), 4),
+        mean_motion_m=round(float(np.mean(motion)) if motion else 0.0, 4),
+        notes=list(outcome.notes),
+    )
     return replace(scene, objects=objects), report
 
 
@@ -263,16 +380,20 @@ def generate_scenes(
     keep: str | Path | None = None,
     settle: bool = False,
     ablation: str | Sequence[str] | None = None,
+    config: GenerateConfig | None = None,
 ) -> dict:
     """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``; returns the
     summary (also written as ``out/summary.json``). Scenes already in ``out`` from an
     earlier run of the same request are kept, not regenerated.
 
+    config : the settings (:class:`GenerateConfig`; its defaults when None); those that
+        differ from the defaults are part of the request in summary.json.
+
     model : a spec of :func:`load_placement_model` (``default``, ``random``,
         ``gaussian:PAIRS_DIR``, ``gaussian:FILE.json``, a checkpoint folder).
     ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
     """
-    from pair2scene.assembly.export import write_scene_folder
+    from pair2scene.io.export import write_scene_folder
     from pair2scene.progress import track
 
     if room is not None and text is not None:
@@ -291,14 +412,18 @@ def generate_scenes(
         request.update(keep=None if keep is None else str(keep), settle=settle)
     if ablations:  # (likewise)
         request["ablation"] = ablations
+    config = ablation_config(ablations, config)
+    settings = config_changes(config, ablation_config(ablations))
+    if settings:  # (likewise; the ablations' flags are in "ablation")
+        request["settings"] = settings
     summary = _read_summary(out, request)
-    p2s = Pair2Scene.from_pretrained(model, ablation_config(ablations) if ablations else None)
+    p2s = Pair2Scene.from_pretrained(model, config)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
     kept = None if keep is None else load_keep(keep)
     if kept is not None and room is None and text is None:
         room = kept.scene.room.type
     build_hierarchy(None if room is None else room_key(room), text, mode, max_objects, seed,
-                    p2s.stats, llm)  # fmt: skip
+                    p2s.stats, llm, config.hierarchy)  # fmt: skip
     done = {s["id"]: s for s in summary["scenes"]}
     for i in track(range(num), "generating", enabled=progress):
         s = seed + i
@@ -309,7 +434,7 @@ def generate_scenes(
         result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=kept,
                               settle=settle)  # fmt: skip
         write_scene_folder(out / sid, result.scene, result.assets)
-        done[sid] = {"id": sid, **result.stats}
+        done[sid] = {"id": sid, **result.stats.to_dict()}
         summary["scenes"] = [done[k] for k in sorted(done)]
         _write_summary(out, summary)
     summary["scenes"] = [done[k] for k in sorted(done)]

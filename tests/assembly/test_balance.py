@@ -38,7 +38,7 @@ def test_overflow_moves_to_a_support_that_carries_it():
     h, table, desk = crowded()
     assets = assets_of(h)
     cap = 0.3 * surface_area(assets[table])  # 0.06 m^2: one 0.05 m^2 book fits
-    balanced, moves, overflow = balance_supports(h, assets, SUP_DEP)
+    balanced, moves, overflow = balance_supports(h, assets, SUP_DEP, BalanceRules(0.3))
     on_table = [o for o, s in balanced.support.items() if s == table]
     load = sum(np.prod(assets[o].size[:2]) for o in on_table)
     assert load <= cap + 1e-9

@@ -164,7 +164,7 @@ def random_p2s():
 
 def test_random_scenes_are_placed_collision_free_and_seeded(random_p2s):
     g = random_p2s.generate(room="bedroom", seed=0)
-    assert g.stats["objects_placed"] == len(g.scene.objects) > 5
+    assert g.stats.objects_placed == len(g.scene.objects) > 5
     report = physical_report(g.scene, g.assets, simulate=False)
     assert report["collision_rate"] == 0 and report["floating_rate"] == 0, report
     again = random_p2s.generate(room="bedroom", seed=0)
@@ -176,8 +176,8 @@ def test_ablations(random_p2s):
     loose = Pair2Scene(random_p2s.model, random_p2s.stats, random_p2s.placer.sizes,
                        random_p2s.rooms, ablation_config("no-rejection"))  # fmt: skip
     g = loose.generate(room="bedroom", seed=1)
-    assert g.stats["resamples_per_object"] == 0 and g.stats["rejections"] == {}
-    assert g.stats["objects_placed"] == default.stats["objects_placed"]
+    assert g.stats.assembly.resamples_per_object == 0 and g.stats.assembly.rejections == {}
+    assert g.stats.objects_placed == default.stats.objects_placed
     afloat = Pair2Scene(random_p2s.model, random_p2s.stats, random_p2s.placer.sizes,
                         random_p2s.rooms, ablation_config(["no-gravity"]))  # fmt: skip
     g = afloat.generate(room="bedroom", seed=1)

@@ -155,10 +155,12 @@ class _Fixed:
     def __init__(self, center, yaw=0.0):
         self.center, self.yaw = center, yaw
 
-    def sample(self, query, n, temperature=1.0, generator=None):
+    honours_temperature = False
+
+    def draw(self, query, n, temperature, generator):
         center = self.center(query.size) if callable(self.center) else self.center
         box = OrientedBox.from_yaw(center, query.size, self.yaw)
-        return np.repeat(box.to_vector()[None], n, axis=0)
+        return np.repeat(box.to_vector()[None], n, axis=0), None
 
 
 def _door_room():
@@ -265,10 +267,12 @@ class _AgainstTheWall:
     """A dresser flush against the wall y = 4, and on it a candidate whose base rests
     on the top's back edge while its leaves (its box) reach through the wall."""
 
+    honours_temperature = False
+
     def __init__(self):
         self.drawn = {}
 
-    def sample(self, query, n, temperature=1.0, generator=None):
+    def draw(self, query, n, temperature, generator):
         from pair2scene.assets.surfaces import surfaces_of
 
         size = np.asarray(query.size, float)
@@ -281,7 +285,7 @@ class _AgainstTheWall:
             y = sup.box.center[1] + top.polygon[:, 1].max() - base - 0.005
             box = OrientedBox.from_yaw([2.0, y, sup.box.top + size[2] / 2], size, 0.0)
         self.drawn[query.category] = box
-        return np.repeat(box.to_vector()[None], n, axis=0)
+        return np.repeat(box.to_vector()[None], n, axis=0), None
 
 
 def test_an_object_on_a_support_does_not_reach_through_a_wall():

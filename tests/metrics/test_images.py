@@ -13,9 +13,9 @@ import pytest
 import scipy.linalg
 import torch
 
-from pair2scene.assembly.export import semantic_color
 from pair2scene.data import fetch as fetch_mod
 from pair2scene.errors import UserError
+from pair2scene.io.scene_meshes import semantic_color
 from pair2scene.metrics.fid import FEATURE_DIM, InceptionFeatures, fid, kid
 from pair2scene.metrics.sca import sca
 from pair2scene.metrics.topview import MARGIN, contact_sheet, topview, topview_batch

@@ -26,9 +26,11 @@ from pair2scene.scene.model import FLOOR
 
 @dataclass(frozen=True)
 class BalanceRules:
-    max_load: float = 0.3
+    max_load: float
     """Share of a support's surface area its dependents' footprints may cover: random
-    placement of boxes jams well before full packing (~0.5 for similar rectangles)."""
+    placement of boxes jams well before full packing (~0.5 for similar rectangles). No
+    default here: placement passes :attr:`~pair2scene.assembly.place.AssemblyConfig.max_load`
+    (the one default, with its measurements)."""
 
 
 def surface_area(asset: Asset) -> float:
@@ -40,7 +42,7 @@ def balance_supports(
     hierarchy: Hierarchy,
     assets: dict[str, Asset],
     sup_dep: dict[str, dict[str, int]],
-    rules: BalanceRules = BalanceRules(),
+    rules: BalanceRules,
     fixed: frozenset[str] | set[str] = frozenset(),
 ) -> tuple[Hierarchy, list[dict], list[dict]]:
     """The hierarchy with overflowing objects moved; the moves ``{"id", "from", "to"}``;

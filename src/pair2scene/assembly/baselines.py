@@ -1,9 +1,10 @@
 """Placement models without the learned network, for baselines: same interface, same path.
 
-Both classes answer :meth:`pair2scene.model.api.LayoutModel.sample`'s call,
-``sample(query, n, temperature, generator) -> (n, 12)`` world box vectors (centre, size,
-6D), so :class:`~pair2scene.assembly.place.Placer` runs them through the very rejection
-sampling and gravity the learned model gets; only where the candidates come from differs.
+Both classes are :class:`~pair2scene.model.api.PlacementModel` s, as the learned model
+is: ``draw(query, n, temperature, generator)`` gives (n, 12) world box vectors (centre,
+size, 6D) and None (neither confines its draws to ``query.region``), so
+:class:`~pair2scene.assembly.place.Placer` runs them through the very rejection sampling
+and gravity the learned model gets; only where the candidates come from differs.
 
 * :class:`GaussianPlacement`: the per-pair Gaussian baseline
   (:class:`~pair2scene.model.baseline.GaussianBaseline`) as a sampler: its mixture for the
@@ -25,7 +26,7 @@ import numpy as np
 import torch
 
 from pair2scene.errors import UserError
-from pair2scene.model.api import PlacementQuery, canonical_to_world
+from pair2scene.model.api import PlacementModel, PlacementQuery, canonical_to_world
 from pair2scene.model.baseline import GaussianBaseline, GaussianConfig, GaussianMixture
 
 _EPS = 1e-9
@@ -39,12 +40,14 @@ def numpy_rng(generator: torch.Generator | None) -> np.random.Generator:
     return np.random.default_rng(seed)
 
 
-class GaussianPlacement:
+class GaussianPlacement(PlacementModel):
     """The Gaussian baseline as a placement model (see the module docstring).
 
     The temperature acts as in the learned model's sampler: component weights to the power
     1/T, covariances times T^2 (:meth:`GaussianMixture.sample`).
     """
+
+    honours_temperature = True
 
     def __init__(self, baseline: GaussianBaseline) -> None:
         self.baseline = baseline
@@ -62,6 +65,16 @@ class GaussianPlacement:
         if not path.exists():
             raise UserError(f"{path}: no such file or folder (a 3D-Pairs folder or a baseline)")
         return cls(GaussianBaseline.load(path))
+
+    def draw(
+        self,
+        query: PlacementQuery,
+        n: int,
+        temperature: float,
+        generator: torch.Generator | None,
+    ) -> tuple[np.ndarray, None]:
+        """:meth:`sample`'s candidates (of the query's size); the region is not used."""
+        return self.sample(query, n, temperature, generator), None
 
     def sample(
         self,
@@ -93,7 +106,7 @@ class GaussianPlacement:
         return out
 
 
-class RandomPlacement:
+class RandomPlacement(PlacementModel):
     """Uniform placement, nothing learned: the baseline that shows what the rules and the
     rejection sampling alone give.
 
@@ -103,8 +116,21 @@ class RandomPlacement:
     between the support's bottom and top: the placer drops each onto the surface nearest
     below it, so every tier of a shelf gets objects, a table only its top. Yaw uniform in
     [0, 2 pi) (the placer snaps one near the walls' or the support's axes onto them, as
-    it does the learned model's). The temperature is ignored.
+    it does the learned model's). Uniform draws have no modes to sharpen: the temperature
+    changes nothing (``honours_temperature`` is False and generation notes it).
     """
+
+    honours_temperature = False
+
+    def draw(
+        self,
+        query: PlacementQuery,
+        n: int,
+        temperature: float,
+        generator: torch.Generator | None,
+    ) -> tuple[np.ndarray, None]:
+        """:meth:`sample`'s candidates; the region is not used (None)."""
+        return self.sample(query, n, temperature, generator), None
 
     def sample(
         self,

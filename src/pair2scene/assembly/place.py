@@ -59,9 +59,14 @@ from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.curation.physics import asset_seed
+from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
+
+MAX_CANDIDATES = 100_000
+"""Most candidates one object may draw: each is a row of a batched forward pass and a
+collision test, so more would be unbounded work, not a better placement."""
 
 
 @dataclass(frozen=True)
@@ -139,6 +144,35 @@ class AssemblyConfig:
     drop onto the surface beneath, no nudge onto it, no test that anything carries it. The
     other tests stay; an object sunk into the floor is rejected (reason ``floor``), one sunk
     into its support collides with it."""
+
+    def __post_init__(self) -> None:
+        positive = {"candidates": self.candidates, "batches": self.batches,
+                    "temperature": self.temperature}  # fmt: skip
+        non_negative = {
+            "door_clearance_m": self.door_clearance_m, "ceiling_margin_m": self.ceiling_margin_m,
+            "snap_yaw_deg": self.snap_yaw_deg, "snap_yaw_support_deg": self.snap_yaw_support_deg,
+            "repair_m": self.repair_m, "floor_repair_m": self.floor_repair_m,
+            "push_attempts": self.push_attempts, "wall_snap_m": self.wall_snap_m,
+        }  # fmt: skip
+        loads = {"max_load": self.max_load, "dense_max_load": self.dense_max_load}
+
+        def flag(name: str) -> str:
+            return "--assembly." + name.replace("_", "-")
+
+        for name, value in positive.items():
+            if not (np.isfinite(value) and value > 0):
+                raise UserError(f"{flag(name)} must be > 0, got {value}")
+        for name, value in non_negative.items():
+            if not (np.isfinite(value) and value >= 0):
+                raise UserError(f"{flag(name)} must be >= 0, got {value}")
+        for name, value in loads.items():
+            if value is not None and not (np.isfinite(value) and 0 < value <= 1):
+                raise UserError(f"{flag(name)} must be a share in (0, 1] or none, got {value}")
+        if self.candidates * self.batches > MAX_CANDIDATES:
+            raise UserError(
+                f"--assembly.candidates x --assembly.batches must be at most {MAX_CANDIDATES}"
+                f" (each object draws them all), got {self.candidates * self.batches}"
+            )
 
 
 @dataclass
@@ -383,12 +417,9 @@ class Placer:
             query = PlacementQuery(node.category, asset.size, support, functional, bounds,
                                    asset=asset, region=region)  # fmt: skip
             t0 = time.perf_counter()
-            if hasattr(self.model, "draw"):
-                boxes, mass = self.model.draw(query, n, cfg.temperature, generator)
-                if region is not None:
-                    stats.outside_mass.append(1.0 - mass)
-            else:  # a sampler without it (a baseline) may ignore the region
-                boxes = self.model.sample(query, n, cfg.temperature, generator)
+            boxes, mass = self.model.draw(query, n, cfg.temperature, generator)
+            if region is not None and mass is not None:
+                stats.outside_mass.append(1.0 - mass)
             timer["model"] += time.perf_counter() - t0
 
             t0 = time.perf_counter()

@@ -8,7 +8,11 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.options import with_config
+from pair2scene.generate import GenerateConfig
 
+
+@with_config(GenerateConfig)
 def generate_command(
     out: Annotated[Path, typer.Option("--out", help="Output folder (resumed if present).")],
     room: Annotated[
@@ -49,14 +53,19 @@ def generate_command(
         int | None, typer.Option(help="CPU threads for torch (default: all cores, at most 4).")
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
+    config: GenerateConfig | None = None,
 ) -> None:
-    """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png and OUT/summary.json."""
+    """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png and OUT/summary.json.
+
+    Every setting of generation (how hierarchies are drawn and placed) is an option below,
+    named by its place in the config: --hierarchy.k, --assembly.temperature...
+    """
     from pair2scene.generate import generate_scenes, set_threads
 
     set_threads(threads)
     summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
                               progress=not as_json, keep=keep, settle=settle,
-                              ablation=ablation)  # fmt: skip
+                              ablation=ablation, config=config)  # fmt: skip
     if as_json:
         typer.echo(json.dumps(summary, indent=1))
         return

@@ -7,7 +7,12 @@ from pathlib import Path
 
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
-from pair2scene.hierarchy.synthesis import SynthesisConfig, load_stats, synthesize
+from pair2scene.hierarchy.synthesis import (
+    HierarchyConfig,
+    SynthesisConfig,
+    load_stats,
+    synthesize,
+)
 from pair2scene.hierarchy.tree import (
     HIERARCHY_FORMAT,
     HIERARCHY_VERSION,
@@ -32,13 +37,17 @@ def build_hierarchy(
     seed: int = 0,
     stats: HierarchyStats | str | Path | None = None,
     llm: str = "auto",
+    config: HierarchyConfig | None = None,
 ) -> Hierarchy:
-    """A validated hierarchy for ``room`` (a room type of the statistics) or ``text``."""
+    """A validated hierarchy for ``room`` (a room type of the statistics) or ``text``;
+    ``config``: the drawing settings (default :class:`HierarchyConfig`)."""
     if (room is None) == (text is None):
         raise UserError("give exactly one of a room type or a text")
     if llm not in LLM_CHOICES:
         raise UserError(f"llm must be one of {', '.join(LLM_CHOICES)}")
-    config = SynthesisConfig(mode=mode, max_objects=max_objects, seed=seed)
+    settings = config or HierarchyConfig()
+    config = SynthesisConfig(mode=mode, max_objects=max_objects, seed=seed, k=settings.k,
+                             beyond_load=settings.beyond_load)  # fmt: skip
     if not isinstance(stats, HierarchyStats):
         stats = load_stats(stats)
     if room is not None:

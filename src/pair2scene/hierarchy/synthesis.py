@@ -66,6 +66,28 @@ surface."""
 
 
 @dataclass(frozen=True)
+class HierarchyConfig:
+    """How hierarchies are drawn from the statistics (the settings a user may tune; the
+    request itself, room type, mode, object cap and seed, is given per call)."""
+
+    k: float = 1.0
+    """Scales every candidate dependent's probability in the expansion (the method's k):
+    above 1 a scene reaches its object count with fewer passes, below 1 with more."""
+    beyond_load: float = BEYOND_LOAD
+    """``beyond``: a piece of furniture is counted on to carry this many times the objects
+    its category carried in the training rooms; extra furniture is added until the pieces
+    can carry ``--max-objects`` (see :data:`BEYOND_LOAD` for the measurements)."""
+
+    def __post_init__(self) -> None:
+        if not self.k > 0 or not np.isfinite(self.k):
+            raise UserError(f"--hierarchy.k must be a finite number > 0, got {self.k}")
+        if not self.beyond_load > 0 or not np.isfinite(self.beyond_load):
+            raise UserError(
+                f"--hierarchy.beyond-load must be a finite number > 0, got {self.beyond_load}"
+            )
+
+
+@dataclass(frozen=True)
 class SynthesisConfig:
     """How :func:`synthesize` builds a hierarchy."""
 
@@ -76,6 +98,8 @@ class SynthesisConfig:
     k: float = 1.0
     """Scales every candidate's probability (the method's k)."""
     seed: int = 0
+    beyond_load: float = BEYOND_LOAD
+    """:attr:`HierarchyConfig.beyond_load`."""
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -250,7 +274,7 @@ def synthesize(
             target = min(target, config.max_objects)
     else:
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
-        template += extra_furniture(st, rs, target, template, rng)
+        template += extra_furniture(st, rs, target, template, rng, config.beyond_load)
     if len(template) > target:
         template = [template[i] for i in sorted(rng.permutation(len(template))[:target])]
         h.notes.append(f"template cut to {target} pieces by the object cap")
@@ -264,10 +288,11 @@ def synthesize(
     return h.validate()
 
 
-def capacity(st: Statistics, category: str) -> float:
+def capacity(st: Statistics, category: str, load: float = BEYOND_LOAD) -> float:
     """``beyond``: how many objects a piece of ``category`` is counted on to carry,
-    :data:`BEYOND_LOAD` times its training mean (0 for furniture nothing rests on)."""
-    return BEYOND_LOAD * sum(rate for _, rate in st.dependents(category))
+    ``load`` (:data:`BEYOND_LOAD`) times its training mean (0 for furniture nothing
+    rests on)."""
+    return load * sum(rate for _, rate in st.dependents(category))
 
 
 def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
@@ -284,7 +309,9 @@ def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
     return template, int(_draw(counts or rs.object_counts, rng))
 
 
-def extra_furniture(st: Statistics, rs, target: int, have: list[str], rng) -> list[str]:
+def extra_furniture(
+    st: Statistics, rs, target: int, have: list[str], rng, load: float = BEYOND_LOAD
+) -> list[str]:
     """``beyond``: furniture of this room type that holds objects, added until the scene's
     pieces (``have``'s and the extra ones, each counting itself and its
     :func:`capacity`) can carry ``target`` objects. A category is drawn by how many
@@ -293,14 +320,14 @@ def extra_furniture(st: Statistics, rs, target: int, have: list[str], rng) -> li
     counts = rs.furniture_counts()
     pool = Counter(
         {c: sum(n for k, n in hist.items() if k > 0)
-         for c, hist in counts.items() if capacity(st, c) >= 1}
+         for c, hist in counts.items() if capacity(st, c, load) >= 1}
     )  # fmt: skip
-    carried = sum(1 + capacity(st, c) for c in have)
+    carried = sum(1 + capacity(st, c, load) for c in have)
     extra: list[str] = []
     while pool and carried < target and len(have) + len(extra) < target:
         cat = _draw(pool, rng)
         extra.append(cat)
-        carried += 1 + capacity(st, cat)
+        carried += 1 + capacity(st, cat, load)
     return extra
 
 

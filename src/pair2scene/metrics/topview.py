@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image, ImageDraw
 
-from pair2scene.assembly.export import semantic_color
 from pair2scene.errors import UserError
+from pair2scene.io.scene_meshes import semantic_color
 from pair2scene.scene.geometry import convex_hull_2d
 
 MARGIN = 1.05

@@ -17,6 +17,7 @@ from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import torch
@@ -138,8 +139,35 @@ class PlacementQuery:
     ignore it only waste those draws."""
 
 
+@runtime_checkable
+class PlacementModel(Protocol):
+    """Where placement's candidates come from: the learned :class:`LayoutModel` and the
+    baselines (:mod:`pair2scene.assembly.baselines`) answer the same call, so the placer
+    runs every one of them through the same rejection sampling and gravity."""
+
+    honours_temperature: bool
+    """False for a sampler without modes to sharpen (the uniform baseline): the
+    temperature then changes nothing, and generation says so in its notes."""
+
+    def draw(
+        self,
+        query: PlacementQuery,
+        n: int,
+        temperature: float,
+        generator: torch.Generator | None,
+    ) -> tuple[np.ndarray, float | None]:
+        """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query, each of
+        the query's size, and the model's probability of a candidate over
+        ``query.region`` (None for a sampler that ignores the region: its draws beyond
+        are simply rejected)."""
+        ...
+
+
 class LayoutModel:
-    """A loaded checkpoint (predictor and encoder, eval mode) with scoring and sampling."""
+    """A loaded checkpoint (predictor and encoder, eval mode) with scoring and sampling;
+    a :class:`PlacementModel`."""
+
+    honours_temperature = True
 
     def __init__(self, checkpoint: Checkpoint) -> None:
         self.checkpoint = checkpoint

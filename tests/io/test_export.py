@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pair2scene.assembly.export import room_meshes, semantic_color, write_scene_folder
 from pair2scene.assets.registry import generate
+from pair2scene.io.export import write_scene_folder
 from pair2scene.io.scene_json import read_scene
+from pair2scene.io.scene_meshes import room_meshes, semantic_color
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
 
