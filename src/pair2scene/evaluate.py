@@ -50,14 +50,20 @@ REFERENCE_FORMS = "ai2thor[:val], procthor:PATH[:val], 3dfront:PATH[:val] or a s
 
 # -- inputs ----------------------------------------------------------------------------
 def scene_files(folder: str | Path) -> list[Path]:
-    """Every scene.json under ``folder`` (``folder/<id>/scene.json`` or ``folder/*.json``),
-    sorted."""
+    """Every scene.json under ``folder`` (``folder/<id>/scene.json``, deeper folders of
+    older writers whose ids held a ``/``, or ``folder/*.json``), sorted. Hidden folders
+    (an interrupted write's temporary ``.<id>.*``) are not scenes."""
     folder = Path(folder)
     if not folder.is_dir():
         raise UserError(f"{folder}: no such folder")
-    files = sorted(folder.glob("*/scene.json"))
+
+    def visible(p: Path) -> bool:
+        return not any(part.startswith(".") for part in p.relative_to(folder).parts)
+
+    files = sorted(p for p in folder.rglob("scene.json") if visible(p) and p.is_file())
     if not files:
-        files = sorted(p for p in folder.glob("*.json") if p.name != "summary.json")
+        files = sorted(p for p in folder.glob("*.json") if p.name != "summary.json"
+                       and visible(p))  # fmt: skip
     if not files:
         raise UserError(f"{folder}: no scene.json files (expected {folder}/<id>/scene.json)")
     return files
@@ -72,13 +78,10 @@ def load_scene_folder(folder: str | Path) -> list[Scene]:
 
 def read_summary(folder: str | Path) -> dict | None:
     """``folder/summary.json`` as pair2scene generate wrote it, or None when absent."""
-    from pair2scene.generate import SUMMARY_FORMAT, SUMMARY_VERSION
-    from pair2scene.io.jsondoc import read_json_document
+    from pair2scene.io.summary import read_summary as read
 
-    path = Path(folder) / "summary.json"
-    if not path.is_file():
-        return None
-    return read_json_document(path, SUMMARY_FORMAT, SUMMARY_VERSION)
+    summary = read(folder)
+    return None if summary is None else summary.to_dict()
 
 
 def parse_reference(spec: str) -> tuple[str, str | None]:

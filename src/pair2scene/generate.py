@@ -12,7 +12,6 @@ arguments it skips the scenes already written (resume), and gives the same files
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
 from pathlib import Path
@@ -28,8 +27,7 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
-from pair2scene.io.atomic import atomic_write_text
-from pair2scene.io.jsondoc import read_json_document
+from pair2scene.io.summary import Summary, resume_summary
 from pair2scene.scene.model import FLOOR, Scene
 
 if TYPE_CHECKING:  # (the model imports torch: only when a model is loaded)
@@ -37,8 +35,6 @@ if TYPE_CHECKING:  # (the model imports torch: only when a model is loaded)
     from pair2scene.curation.stats import HierarchyStats
     from pair2scene.model.api import PlacementModel
 
-SUMMARY_FORMAT = "pair2scene.summary"
-SUMMARY_VERSION = 1
 PLACEMENT_MODELS = "default, random, gaussian:PAIRS_DIR, gaussian:FILE.json or a checkpoint folder"
 """What ``--model`` takes (:func:`load_placement_model`)."""
 ABLATIONS = {"no-rejection": "reject", "no-gravity": "gravity", "no-confine": "confine"}
@@ -381,10 +377,10 @@ def generate_scenes(
     settle: bool = False,
     ablation: str | Sequence[str] | None = None,
     config: GenerateConfig | None = None,
-) -> dict:
-    """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``; returns the
-    summary (also written as ``out/summary.json``). Scenes already in ``out`` from an
-    earlier run of the same request are kept, not regenerated.
+) -> Summary:
+    """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``, each in
+    ``out/<id>/``; returns the summary (also written as ``out/summary.json``). Scenes
+    already in ``out`` from an earlier run of the same request are kept, not regenerated.
 
     config : the settings (:class:`GenerateConfig`; its defaults when None); those that
         differ from the defaults are part of the request in summary.json.
@@ -394,6 +390,7 @@ def generate_scenes(
     ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
     """
     from pair2scene.io.export import write_scene_folder
+    from pair2scene.io.names import scene_folder
     from pair2scene.progress import track
 
     if room is not None and text is not None:
@@ -416,7 +413,7 @@ def generate_scenes(
     settings = config_changes(config, ablation_config(ablations))
     if settings:  # (likewise; the ablations' flags are in "ablation")
         request["settings"] = settings
-    summary = _read_summary(out, request)
+    summary = resume_summary(out, request)
     p2s = Pair2Scene.from_pretrained(model, config)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
     kept = None if keep is None else load_keep(keep)
@@ -424,51 +421,17 @@ def generate_scenes(
         room = kept.scene.room.type
     build_hierarchy(None if room is None else room_key(room), text, mode, max_objects, seed,
                     p2s.stats, llm, config.hierarchy)  # fmt: skip
-    done = {s["id"]: s for s in summary["scenes"]}
     for i in track(range(num), "generating", enabled=progress):
         s = seed + i
         prefix = room_key(room) if room is not None else "text"
         sid = f"{prefix}_{s:04d}"
-        if sid in done and (out / sid / "scene.json").is_file():
+        if sid in summary.scenes and (scene_folder(out, sid) / "scene.json").is_file():
             continue
         result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=kept,
                               settle=settle)  # fmt: skip
-        write_scene_folder(out / sid, result.scene, result.assets)
-        done[sid] = {"id": sid, **result.stats.to_dict()}
-        summary["scenes"] = [done[k] for k in sorted(done)]
-        _write_summary(out, summary)
-    summary["scenes"] = [done[k] for k in sorted(done)]
-    summary["totals"] = _totals(summary["scenes"])
-    _write_summary(out, summary)
+        write_scene_folder(scene_folder(out, sid), result.scene, result.assets)
+        summary.add({"id": sid, **result.stats.to_dict()})
+        summary.write(out)
+    summary.totals = summary.compute_totals()
+    summary.write(out)
     return summary
-
-
-def _read_summary(out: Path, request: dict) -> dict:
-    path = out / "summary.json"
-    if not path.exists():
-        return {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "request": request,
-                "scenes": []}  # fmt: skip
-    doc = read_json_document(path, SUMMARY_FORMAT, SUMMARY_VERSION)
-    if doc.get("request") != request:
-        raise UserError(f"{out} holds scenes of another request; choose another --out")
-    return doc
-
-
-def _write_summary(out: Path, summary: dict) -> None:
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1) + "\n")
-
-
-def _totals(scenes: list[dict]) -> dict:
-    if not scenes:
-        return {}
-
-    def mean(key: str) -> float:
-        return round(float(np.mean([s[key] for s in scenes])), 4)
-
-    return {
-        "scenes": len(scenes),
-        "objects_per_scene": mean("objects_placed"),
-        "acceptance_rate": mean("acceptance_rate"),
-        "resamples_per_object": mean("resamples_per_object"),
-        "seconds_per_scene": round(float(np.mean([s["seconds"]["total"] for s in scenes])), 4),
-    }

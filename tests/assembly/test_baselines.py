@@ -197,8 +197,8 @@ def test_gaussian_and_random_through_generate_scenes(tmp_path):
     out = tmp_path / "g"
     summary = generate_scenes(out, room="bedroom", model=spec, ablation=["no-gravity"],
                               progress=False)  # fmt: skip
-    assert summary["request"]["model"] == spec and summary["request"]["ablation"] == ["no-gravity"]
-    assert summary["scenes"][0]["objects_placed"] > 0
+    assert summary.request["model"] == spec and summary.request["ablation"] == ["no-gravity"]
+    assert summary.scenes["bedroom_0000"]["objects_placed"] > 0
     first = (out / "bedroom_0000" / "scene.json").read_text()
     again = tmp_path / "again"
     generate_scenes(again, room="bedroom", model=spec, ablation="no-gravity", progress=False)
@@ -208,10 +208,11 @@ def test_gaussian_and_random_through_generate_scenes(tmp_path):
     model.baseline.save(tmp_path / "b.json")
     saved = generate_scenes(tmp_path / "s", room="bedroom", model=f"gaussian:{tmp_path / 'b.json'}",
                             ablation="no-gravity", progress=False)  # fmt: skip
-    assert saved["scenes"][0]["objects_placed"] == summary["scenes"][0]["objects_placed"]
+    placed = summary.scenes["bedroom_0000"]["objects_placed"]
+    assert saved.scenes["bedroom_0000"]["objects_placed"] == placed
     # the default request keeps its old keys
     plain = generate_scenes(tmp_path / "r", room="kitchen", model="random", progress=False)
-    assert set(plain["request"]) == {"room", "text", "mode", "max_objects", "model", "llm"}
+    assert set(plain.request) == {"room", "text", "mode", "max_objects", "model", "llm"}
     doc = json.loads((tmp_path / "r" / "summary.json").read_text())
     assert doc["request"]["model"] == "random"
     for bad, msg in [("gaussian", "gaussian:PAIRS_DIR"), ("nonsense", "no such model"),

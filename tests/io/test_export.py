@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 
 from pair2scene.assets.registry import generate
-from pair2scene.io.export import write_scene_folder
+from pair2scene.io.export import SCENE_FILES, write_scene_folder
 from pair2scene.io.scene_json import read_scene
 from pair2scene.io.scene_meshes import room_meshes, semantic_color
 from pair2scene.scene.geometry import OrientedBox
@@ -65,3 +65,19 @@ def test_walls_leave_the_door_open_and_colours_are_stable():
     lintel = min(bottom, key=lambda m: m.bounds[1, 0] - m.bounds[0, 0])
     assert lintel.bounds[0, 2] == pytest.approx(2.1)
     assert semantic_color("bed") == semantic_color("bed") != semantic_color("mug")
+
+
+def test_a_summary_in_another_shape_is_one_line(tmp_path):
+    import json
+
+    from pair2scene.errors import UserError
+    from pair2scene.io.summary import SUMMARY_FORMAT, read_summary
+
+    doc = {"format": SUMMARY_FORMAT, "version": 1, "request": {}, "scenes": "oops"}
+    (tmp_path / "summary.json").write_text(json.dumps(doc))
+    with pytest.raises(UserError, match="scenes: must be a list"):
+        read_summary(tmp_path)
+
+
+def test_every_scene_file_has_one_exporter():
+    assert list(SCENE_FILES) == ["scene.json", "scene.glb", "bev.png"]

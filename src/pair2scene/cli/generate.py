@@ -67,9 +67,9 @@ def generate_command(
                               progress=not as_json, keep=keep, settle=settle,
                               ablation=ablation, config=config)  # fmt: skip
     if as_json:
-        typer.echo(json.dumps(summary, indent=1))
+        typer.echo(json.dumps(summary.to_dict(), indent=1))
         return
-    t = summary["totals"]
+    t = summary.totals
     typer.echo(
         f"{t['scenes']} scenes in {out}: {t['objects_per_scene']:.1f} objects each, acceptance "
         f"{t['acceptance_rate']:.2f}, {t['resamples_per_object']:.2f} resamples per object, "
