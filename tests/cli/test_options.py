@@ -126,3 +126,15 @@ def test_bad_settings_exit_2_with_one_line(tmp_path, args, message):
     assert proc.returncode == 2, proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1 and message in proc.stderr
     assert not (tmp_path / "x").exists()
+
+
+def test_hierarchy_takes_the_hierarchy_settings_by_the_same_names(capsys):
+    """A lower beyond load counts on each piece for fewer objects: more furniture."""
+
+    def floor_pieces(*settings):
+        assert main(["hierarchy", "--room", "bedroom", "--mode", "beyond", "--json",
+                     *settings]) == 0  # fmt: skip
+        doc = json.loads(capsys.readouterr().out)
+        return sum(1 for t in doc["sequence"] if t["support"]["id"] == "floor")
+
+    assert floor_pieces("--hierarchy.beyond-load", "0.5") > floor_pieces()

@@ -11,9 +11,12 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.options import with_config
 from pair2scene.errors import UserError
+from pair2scene.hierarchy.synthesis import HierarchyConfig
 
 
+@with_config(HierarchyConfig, prefix=("hierarchy",))
 def hierarchy_command(
     room: Annotated[
         str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
@@ -37,6 +40,7 @@ def hierarchy_command(
         str, typer.Option(help="auto (LLM when configured), never (offline parser), always.")
     ] = "auto",
     as_json: Annotated[bool, typer.Option("--json", help="Print the hierarchy as JSON.")] = False,
+    config: HierarchyConfig | None = None,
 ) -> None:
     """Build a scene hierarchy: which objects, what rests on what (support tree), what is
     placed relative to what (functional trees), and the placement order (sequence).
@@ -54,7 +58,7 @@ def hierarchy_command(
             raise UserError("give one of --room, --text or --file")
         h = read_hierarchy(file)
     else:
-        h = build_hierarchy(room, text, mode, max_objects, seed, stats, llm)
+        h = build_hierarchy(room, text, mode, max_objects, seed, stats, llm, config)
     if as_json:
         typer.echo(json.dumps(h.to_dict(mode=mode, seed=seed), indent=1))
         return

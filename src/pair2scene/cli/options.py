@@ -172,11 +172,15 @@ def _typer_param(option: ConfigOption) -> inspect.Parameter:
     )
 
 
-def with_config(config_cls: type, name: str = "config") -> Callable[[Callable], Callable]:
+def with_config(
+    config_cls: type, name: str = "config", prefix: tuple[str, ...] = ()
+) -> Callable[[Callable], Callable]:
     """Decorate a typer command taking ``name: config_cls``: the command gets one option
     per leaf field of ``config_cls`` instead, and is called with the config they give
-    (the dataclass's defaults for options not given)."""
-    options = config_options(config_cls)
+    (the dataclass's defaults for options not given). ``prefix``: the path of
+    ``config_cls`` in a larger tree, so that a part of it keeps the same names
+    (``pair2scene hierarchy`` takes ``--hierarchy.k`` as ``generate`` does)."""
+    options = config_options(config_cls, prefix)
 
     def decorate(command: Callable) -> Callable:
         sig = inspect.signature(command, eval_str=True)
@@ -189,7 +193,8 @@ def with_config(config_cls: type, name: str = "config") -> Callable[[Callable], 
                 value = kwargs.pop(option.param, None)
                 if value is None:
                     continue
-                given[option.path] = value if option.kind is bool else option.parse(value)
+                path = option.path[len(prefix):]
+                given[path] = value if option.kind is bool else option.parse(value)
             try:
                 config = apply_options(config_cls(), given)
             except (TypeError, ValueError) as e:
