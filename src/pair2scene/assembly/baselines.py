@@ -40,7 +40,27 @@ def numpy_rng(generator: torch.Generator | None) -> np.random.Generator:
     return np.random.default_rng(seed)
 
 
-class GaussianPlacement(PlacementModel):
+class _Sampler(PlacementModel):
+    """A placement model from a ``sample(query, n, temperature, generator)`` that draws
+    over the whole support and knows nothing of ``query.region``."""
+
+    def draw(
+        self,
+        query: PlacementQuery,
+        n: int,
+        temperature: float,
+        generator: torch.Generator | None,
+    ) -> tuple[np.ndarray, None]:
+        """:meth:`sample`'s candidates (of the query's size); None: no region mass."""
+        return self.sample(query, n, temperature, generator), None
+
+    def sample(
+        self, query: PlacementQuery, n: int, temperature: float, generator: torch.Generator | None
+    ) -> np.ndarray:
+        raise NotImplementedError
+
+
+class GaussianPlacement(_Sampler):
     """The Gaussian baseline as a placement model (see the module docstring).
 
     The temperature acts as in the learned model's sampler: component weights to the power
@@ -65,16 +85,6 @@ class GaussianPlacement(PlacementModel):
         if not path.exists():
             raise UserError(f"{path}: no such file or folder (a 3D-Pairs folder or a baseline)")
         return cls(GaussianBaseline.load(path))
-
-    def draw(
-        self,
-        query: PlacementQuery,
-        n: int,
-        temperature: float,
-        generator: torch.Generator | None,
-    ) -> tuple[np.ndarray, None]:
-        """:meth:`sample`'s candidates (of the query's size); the region is not used."""
-        return self.sample(query, n, temperature, generator), None
 
     def sample(
         self,
@@ -106,7 +116,7 @@ class GaussianPlacement(PlacementModel):
         return out
 
 
-class RandomPlacement(PlacementModel):
+class RandomPlacement(_Sampler):
     """Uniform placement, nothing learned: the baseline that shows what the rules and the
     rejection sampling alone give.
 
@@ -121,16 +131,6 @@ class RandomPlacement(PlacementModel):
     """
 
     honours_temperature = False
-
-    def draw(
-        self,
-        query: PlacementQuery,
-        n: int,
-        temperature: float,
-        generator: torch.Generator | None,
-    ) -> tuple[np.ndarray, None]:
-        """:meth:`sample`'s candidates; the region is not used (None)."""
-        return self.sample(query, n, temperature, generator), None
 
     def sample(
         self,
