@@ -57,7 +57,7 @@ def test_a_beyond_scene_has_the_surfaces_for_its_objects(p2s):
     10 objects counted on every piece, 36 of its 80 objects found no free surface (40
     placed)."""
     g = p2s.generate(room="bedroom", seed=21, mode="beyond", max_objects=80)
-    full = [d for d in g.stats.dropped if "no free surface" in d["reason"]]
+    full = [d for d in g.stats.dropped if "no free surface" in d.reason]
     assert g.stats.objects_placed >= 70 and len(full) <= 5, (g.stats.objects_placed, full)
 
 

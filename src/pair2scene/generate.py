@@ -21,6 +21,7 @@ import numpy as np
 
 from pair2scene.assembly.keep import Kept, load_keep, merge_keep
 from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
+from pair2scene.assembly.records import Dropped
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.errors import UserError
@@ -58,8 +59,8 @@ class GenerateConfig:
 class SettleReport:
     """What the closing MuJoCo settle of a scene did (:func:`settle_scene`)."""
 
-    dropped: list[dict]
-    """``{"id", "category", "reason"}`` per object that fell or slid, and its dependents."""
+    dropped: list[Dropped]
+    """Per object that fell or slid, and its dependents."""
     seconds: float
     max_motion_m: float
     """Largest motion of a kept object while settling."""
@@ -84,9 +85,8 @@ class SceneStats:
     """The closing settle (``--settle``); None without one."""
 
     @property
-    def dropped(self) -> list[dict]:
-        """``{"id", "category", "reason"}`` per object not in the scene (placement's, then
-        the settle's)."""
+    def dropped(self) -> list[Dropped]:
+        """Per object not in the scene: why (placement's, then the settle's)."""
         return self.assembly.dropped + (self.settle.dropped if self.settle else [])
 
     @property
@@ -107,7 +107,7 @@ class SceneStats:
         if self.kept is not None:
             out["kept"] = self.kept
         if self.settle is not None:
-            out["dropped"] = self.dropped
+            out["dropped"] = [d.to_dict() for d in self.dropped]
             out["objects_placed"] = self.objects_placed
             out["acceptance_rate"] = round(self.acceptance_rate, 4)
             out["seconds"]["physics"] = self.settle.seconds
@@ -351,8 +351,7 @@ def settle_scene(
     motion = [m for oid, (m, _) in outcome.motion.items() if oid not in dropped]
     report = SettleReport(
         dropped=[
-            {"id": k, "category": by_id[k].category, "reason": f"physics: {v}"}
-            for k, v in dropped.items()
+            Dropped(k, by_id[k].category, f"physics: {v}") for k, v in dropped.items()
         ],
         seconds=round(outcome.seconds, 4),
         max_motion_m=round(float(max(motion, default=0.0)), 4),

@@ -42,13 +42,13 @@ def test_overflow_moves_to_a_support_that_carries_it():
     on_table = [o for o, s in balanced.support.items() if s == table]
     load = sum(np.prod(assets[o].size[:2]) for o in on_table)
     assert load <= cap + 1e-9
-    assert moves and all(m["from"] == table and m["to"] == desk for m in moves)
+    assert moves and all(m.source == table and m.target == desk for m in moves)
     # the desk (0.98 m^2 x 0.3) takes books; nothing carries a mug but the side table
-    assert {o["category"] for o in overflow} <= {"book", "mug"}
+    assert {o.category for o in overflow} <= {"book", "mug"}
     assert len(on_table) + len(moves) + len(overflow) == 7
     balanced.validate()  # still a valid hierarchy
     # the bed never takes books: the statistics have no book on a bed
-    assert all(m["to"] != "bed_0" for m in moves)
+    assert all(m.target != "bed_0" for m in moves)
 
 
 def test_nothing_moves_under_the_cap():

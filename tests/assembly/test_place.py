@@ -99,7 +99,7 @@ def test_impossible_objects_are_dropped_with_their_dependents(placer):
     fast = Placer(placer.model, config=AssemblyConfig(candidates=8, batches=2))
     stats = fast.place(h, cramped, seed=0).stats
     assert stats.placed < 6 and len(stats.dropped) == 6 - stats.placed
-    reasons = {d["reason"] for d in stats.dropped}
+    reasons = {d.reason for d in stats.dropped}
     assert any("no valid placement" in r for r in reasons)
     assert any("was dropped" in r for r in reasons)
 
@@ -143,8 +143,8 @@ def test_an_object_whose_base_fits_no_surface_is_dropped_without_drawing(placer)
     h.add("television", d.id)
     stats = Given(placer.model).place(h.validate(), make_room("bedroom", np.random.default_rng(0)))
     stats = stats.stats
-    assert [x["id"] for x in stats.dropped] == ["television_0"]
-    assert stats.dropped[0]["reason"].endswith("of dresser_0")
+    assert [x.id for x in stats.dropped] == ["television_0"]
+    assert stats.dropped[0].reason.endswith("of dresser_0")
     assert "unsupported" not in stats.rejections  # no candidate was drawn for it
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from pair2scene.assembly.records import Dropped, Moved
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.hierarchy.tree import Hierarchy
@@ -44,17 +45,17 @@ def balance_supports(
     sup_dep: dict[str, dict[str, int]],
     rules: BalanceRules,
     fixed: frozenset[str] | set[str] = frozenset(),
-) -> tuple[Hierarchy, list[dict], list[dict]]:
-    """The hierarchy with overflowing objects moved; the moves ``{"id", "from", "to"}``;
-    the overflow ``{"id", "category", "reason"}`` (objects no support has room for).
+) -> tuple[Hierarchy, list[Moved], list[Dropped]]:
+    """The hierarchy with overflowing objects moved; the moves; the overflow (objects no
+    support has room for).
     ``fixed`` objects (kept by the user) never move and always count."""
     category = {n.id: n.category for n in hierarchy.nodes}
     area = {oid: surface_area(a) for oid, a in assets.items() if oid in category}
     load = dict.fromkeys(area, 0.0)
     support = dict(hierarchy.support)
     functional = dict(hierarchy.functional)
-    moves: list[dict] = []
-    overflow: list[dict] = []
+    moves: list[Moved] = []
+    overflow: list[Dropped] = []
 
     def footprint(oid: str) -> float:
         size = assets[oid].size
@@ -75,8 +76,7 @@ def balance_supports(
                 continue
             target = _free_support(oid, f, category, support, sup_dep, area, load, rules)
             if target is None:
-                overflow.append({"id": oid, "category": category[oid],
-                                 "reason": f"no free surface: {sup} is full"})  # fmt: skip
+                overflow.append(Dropped(oid, category[oid], f"no free surface: {sup} is full"))
                 continue
             support[oid] = target
             functional.pop(oid, None)
@@ -84,7 +84,7 @@ def balance_supports(
                 if anchor == oid:  # its functional dependents stay where they are
                     del functional[other]
             load[target] += f
-            moves.append({"id": oid, "from": sup, "to": target})
+            moves.append(Moved(oid, sup, target))
     balanced = replace(hierarchy, support=support, functional=functional,
                        notes=list(hierarchy.notes))  # fmt: skip
     return balanced, moves, overflow

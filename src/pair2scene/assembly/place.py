@@ -47,6 +47,7 @@ from pair2scene.assembly.collision import (
     clearing_move,
     obb_overlaps,
 )
+from pair2scene.assembly.records import Dropped, Moved
 from pair2scene.assembly.rest import (
     contact_rectangle,
     dropped,
@@ -183,10 +184,10 @@ class AssemblyStats:
     placed: int = 0
     resamples: list[int] = field(default_factory=list)
     """Per placed object: candidates rejected before the accepted one."""
-    dropped: list[dict] = field(default_factory=list)
-    """``{"id", "category", "reason"}`` per object not placed."""
-    moved: list[dict] = field(default_factory=list)
-    """``{"id", "from", "to"}`` per object moved off a full support before placement."""
+    dropped: list[Dropped] = field(default_factory=list)
+    """Per object not placed: why."""
+    moved: list[Moved] = field(default_factory=list)
+    """Per object moved off a full support before placement: from where to where."""
     repaired: int = 0
     """Accepted candidates that were nudged (onto the surface, into the room, clear of a
     neighbour) rather than taken as drawn."""
@@ -218,11 +219,11 @@ class AssemblyStats:
             "objects_placed": self.placed,
             "acceptance_rate": round(self.acceptance_rate, 4),
             "resamples_per_object": round(self.resamples_per_object, 4),
-            "moved": self.moved,
+            "moved": [m.to_dict() for m in self.moved],
             "repaired": self.repaired,
             "rejections": dict(sorted(self.rejections.items())),
             "model_mass_outside_room": round(self.mass_outside_room, 4),
-            "dropped": self.dropped,
+            "dropped": [d.to_dict() for d in self.dropped],
             "seconds": {k: round(v, 4) for k, v in self.seconds.items()},
         }
 
@@ -374,7 +375,7 @@ class Placer:
             hierarchy, stats.moved, full = balance_supports(
                 hierarchy, assets, self.sup_dep, BalanceRules(max_load), kept
             )
-            overflow = {o["id"]: o["reason"] for o in full}
+            overflow = {o.id: o.reason for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
         timer["assets"] += time.perf_counter() - t0
 
@@ -383,24 +384,20 @@ class Placer:
             if node.id in kept:
                 continue  # fixed where the user put it
             if node.id in overflow:
-                stats.dropped.append(
-                    {"id": node.id, "category": node.category, "reason": overflow[node.id]}
-                )
+                stats.dropped.append(Dropped(node.id, node.category, overflow[node.id]))
                 continue
             if item.support != FLOOR and item.support not in placed:
                 stats.dropped.append(
-                    {"id": node.id, "category": node.category,
-                     "reason": f"its support {item.support} was dropped"}
-                )  # fmt: skip
+                    Dropped(node.id, node.category, f"its support {item.support} was dropped")
+                )
                 continue
             asset = assets[node.id]
             if item.support != FLOOR and cfg.reject and cfg.gravity:
                 too_big = no_room_on(asset, placed[item.support].asset)
                 if too_big is not None:  # no candidate could rest: do not draw 256
                     stats.dropped.append(
-                        {"id": node.id, "category": node.category,
-                         "reason": f"{too_big} of {item.support}"}
-                    )  # fmt: skip
+                        Dropped(node.id, node.category, f"{too_big} of {item.support}")
+                    )
                     continue
             if item.support == FLOOR:
                 support = Anchor.floor(bounds)
@@ -457,7 +454,7 @@ class Placer:
                 if on_floor_ and _too_large(asset.size, room):
                     reason = (f"too large for the room ({asset.size[0]:.2f} x "
                               f"{asset.size[1]:.2f} m)")  # fmt: skip
-                stats.dropped.append({"id": node.id, "category": node.category, "reason": reason})
+                stats.dropped.append(Dropped(node.id, node.category, reason))
                 continue
             index, box = accepted
             shape.set_pose(box.rotation, box.center)
