@@ -56,9 +56,9 @@ from pair2scene.assembly.rest import (
     rest_on_surfaces,
 )
 from pair2scene.assembly.sizes import SizeTable
+from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.curation.physics import asset_seed
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
