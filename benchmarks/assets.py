@@ -72,7 +72,7 @@ class GenerationFigures:
 
 def bench_generation(seeds: int, runs: int) -> GenerationFigures:
     from pair2scene.assets.registry import generate, generators
-    from pair2scene.render import asset_categories, typical_size
+    from pair2scene.assets.typical_sizes import asset_categories, typical_size
 
     names = [c for c in asset_categories() if c in generators()]
     per_case, per_category = [], {}
@@ -93,7 +93,7 @@ def bench_pointclouds(runs: int) -> str:
     except (ImportError, AttributeError):
         return "not available"
     from pair2scene.assets.registry import generate, generators
-    from pair2scene.render import asset_categories, typical_size
+    from pair2scene.assets.typical_sizes import asset_categories, typical_size
 
     names = [c for c in asset_categories() if c in generators()][:POINTCLOUD_ASSETS]
     if not names:
@@ -121,7 +121,8 @@ def bench_pointclouds(runs: int) -> str:
 def bench_render(runs: int) -> tuple[str, str, str]:
     """(sheet line, frame line, renderer) ."""
     from pair2scene.assets.mesh import box, cylinder
-    from pair2scene.render import asset_sheet, render_meshes, renderer_info
+    from pair2scene.assets.sheet import asset_sheet
+    from pair2scene.render import render_meshes, renderer_info
 
     with tempfile.TemporaryDirectory() as tmp:
         res = asset_sheet(Path(tmp) / "sheet.png", seed=0)

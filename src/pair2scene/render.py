@@ -1,4 +1,4 @@
-"""Headless pictures of meshes: a moderngl/EGL renderer, a PIL fallback, contact sheets.
+"""Headless pictures of meshes: a moderngl/EGL renderer, a PIL fallback, labelled grids.
 
 ``render_meshes`` draws world-space meshes with per-mesh colours in an
 orthographic view (``top``: straight down, +y up in the picture, +x right;
@@ -13,38 +13,28 @@ is remembered and every later call draws with a pure-CPU painter's
 algorithm in PIL (slower and without anti-aliasing, same framing and
 shading).
 
-Also here: labelled grids (:func:`compose_grid`), the per-category typical
-asset sizes measured on the corpora (:func:`typical_sizes`, written by
-``python -m pair2scene.render --typical-sizes``), the asset catalogue
-behind ``pair2scene assets list`` (:func:`asset_catalog`) and the asset
-contact sheet (:func:`asset_sheet`).
+Also here, as image utilities: labelled grids of pictures (:func:`compose_grid`)
+and the caption font (:func:`caption_font`). The asset contact sheet built on them is
+:mod:`pair2scene.assets.sheet`.
 """
 
 from __future__ import annotations
 
-import argparse
-import io
-import json
 import math
-import time
-import zlib
 from collections import OrderedDict
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
-from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from pair2scene.assets.mesh import Mesh
 from pair2scene.assets.preview import view_rotation
-from pair2scene.errors import UserError
 
 if TYPE_CHECKING:
     from PIL import Image as PILImage
 
-    from pair2scene.data.base import Corpus
 
 RGB = tuple[int, int, int]
 ViewLike = Literal["top", "three_quarter"] | tuple[float, float]
@@ -485,7 +475,8 @@ GRID_PAD_PX = 8
 
 
 @lru_cache(maxsize=8)
-def _font(px: int):
+def caption_font(px: int):
+    """PIL's default font at ``px`` pixels (the bitmap font on Pillow < 10.1), cached."""
     from PIL import ImageFont
 
     try:
@@ -530,7 +521,7 @@ def compose_grid(
 
     if not cells:
         raise ValueError("compose_grid: no cells")
-    font = _font(font_px)
+    font = caption_font(font_px)
     line_h = font_px + 4
     n_lines = max(len(c.captions) for c in cells)
     img_w = max(c.image.width for c in cells)
@@ -540,7 +531,7 @@ def compose_grid(
         columns = max(1, math.ceil(math.sqrt(len(cells) * cell_h / cell_w)))
     rows = math.ceil(len(cells) / columns)
     width = columns * cell_w + GRID_PAD_PX
-    title_font, title_lines = _font(font_px + 3), []
+    title_font, title_lines = caption_font(font_px + 3), []
     if title:
         scratch = ImageDraw.Draw(Image.new("RGB", (1, 1)))
         title_lines = _wrap(scratch, title, title_font, width - 2 * GRID_PAD_PX)
@@ -562,341 +553,3 @@ def compose_grid(
             draw.text((x0 + (img_w - tw) / 2, y0 + img_h + 2 + k * line_h), text,
                       fill=cap.color, font=font)  # fmt: skip
     return sheet
-
-
-# -- typical sizes --------------------------------------------------------------------------
-TYPICAL_SIZES_FILE = "typical_sizes.json"
-DEFAULT_PROCTHOR = Path("/work/shared/data/procthor-1k/train.jsonl.gz")
-"""Where the project's ProcTHOR sample lives (only read when regenerating the table)."""
-GENERIC_SIZE = (0.3, 0.3, 0.3)
-"""Size for a category missing from the table (a category added after the table was
-written); the test suite checks that the table covers every category."""
-
-HAND_SIZES: dict[str, tuple[float, float, float]] = {
-    # Categories neither AI2-THOR nor ProcTHOR has (x width, y depth, z height; metres).
-    "cabinet": (1.2, 0.45, 0.85),  # a sideboard: counter height, shallow
-    "ceiling_lamp": (0.45, 0.45, 0.5),  # a pendant shade with its drop
-    "dressing_table": (1.0, 0.45, 0.76),  # desk height, shallower than a desk
-    "keyboard": (0.44, 0.14, 0.03),  # full-size keyboard
-    "monitor": (0.55, 0.2, 0.45),  # 24-inch screen on its stand foot
-    "wall_lamp": (0.15, 0.2, 0.3),  # a sconce: 20 cm off the wall
-    "wardrobe": (1.0, 0.6, 2.0),  # 60 cm deep to hang clothes across
-}
-
-
-@dataclass(frozen=True)
-class TypicalSize:
-    size: tuple[float, float, float]
-    """Median full extent along local x, y, z (metres)."""
-    source: str
-    """``ai2thor``, ``procthor``, ``hand`` or ``default`` (not in the table)."""
-    count: int
-    """Objects the median was taken over (0 for hand sizes)."""
-
-
-def asset_categories() -> list[str]:
-    """Every canonical category that is not a room feature (structure), in table order."""
-    from pair2scene.categories import CATEGORIES, is_structure
-
-    return [c.name for c in CATEGORIES if not is_structure(c.name)]
-
-
-def _median_sizes(corpus: Corpus) -> dict[str, tuple[np.ndarray, int]]:
-    sizes: dict[str, list[np.ndarray]] = {}
-    for scene in corpus.scenes:
-        for obj in scene.objects:
-            sizes.setdefault(obj.category, []).append(np.asarray(obj.box.size, dtype=float))
-    return {k: (np.median(np.stack(v), axis=0), len(v)) for k, v in sizes.items()}
-
-
-def compute_typical_sizes(
-    ai2thor: Corpus, procthor: Corpus | None = None
-) -> dict[str, TypicalSize]:
-    """Per asset category the per-axis median box size in AI2-THOR, else in ProcTHOR,
-    else :data:`HAND_SIZES`, rounded to millimetres."""
-    first = _median_sizes(ai2thor)
-    second = _median_sizes(procthor) if procthor is not None else {}
-    table = {}
-    for name in asset_categories():
-        for source, medians in (("ai2thor", first), ("procthor", second)):
-            if name in medians:
-                med, n = medians[name]
-                table[name] = TypicalSize(tuple(round(float(x), 3) for x in med), source, n)
-                break
-        else:
-            if name in HAND_SIZES:
-                table[name] = TypicalSize(HAND_SIZES[name], "hand", 0)
-    return table
-
-
-def write_typical_sizes(
-    path: str | Path | None = None, procthor_path: str | Path = DEFAULT_PROCTHOR
-) -> Path:
-    """Measure the corpora and write the typical-size table (default: the package's own)."""
-    from pair2scene.data.ai2thor import load_ai2thor
-    from pair2scene.data.procthor import load_procthor
-    from pair2scene.io.atomic import atomic_write_text
-
-    table = compute_typical_sizes(load_ai2thor(), load_procthor(procthor_path))
-    missing = sorted(set(asset_categories()) - set(table))
-    if missing:
-        raise UserError(f"no typical size for {missing}: add them to HAND_SIZES")
-    header = {
-        "format": "pair2scene.typical_sizes",
-        "version": 1,
-        "note": "Per-axis median box size (x width, y depth, z height; metres) per asset "
-        "category: AI2-THOR designed rooms, else ProcTHOR train houses, else a hand value. "
-        "Written by `python -m pair2scene.render --typical-sizes`.",
-    }
-    # one category per line: the table reads (and diffs) as a table
-    rows = [
-        f"  {json.dumps(k)}: "
-        + json.dumps({"count": v.count, "size": list(v.size), "source": v.source})
-        for k, v in sorted(table.items())
-    ]
-    head = json.dumps(header, indent=1, sort_keys=True)[:-2]
-    text = head + ',\n "sizes": {\n' + ",\n".join(rows) + "\n }\n}\n"
-    json.loads(text)  # the hand-made layout must stay valid JSON
-    out = Path(path) if path is not None else Path(__file__).parent / "assets" / TYPICAL_SIZES_FILE
-    atomic_write_text(out, text)
-    typical_sizes.cache_clear()
-    return out
-
-
-@lru_cache(maxsize=1)
-def typical_sizes() -> dict[str, TypicalSize]:
-    """The packaged typical-size table (read once)."""
-    from importlib.resources import files
-
-    text = files("pair2scene.assets").joinpath(TYPICAL_SIZES_FILE).read_text(encoding="utf-8")
-    doc = json.loads(text)
-    return {
-        k: TypicalSize(tuple(float(x) for x in v["size"]), v["source"], int(v["count"]))
-        for k, v in doc["sizes"].items()
-    }
-
-
-def typical_size(category: str) -> TypicalSize:
-    """The typical size of ``category`` (``GENERIC_SIZE`` when the table lacks it)."""
-    return typical_sizes().get(category, TypicalSize(GENERIC_SIZE, "default", 0))
-
-
-# -- asset catalogue --------------------------------------------------------------------------
-@dataclass(frozen=True)
-class AssetEntry:
-    """What ``pair2scene assets list`` shows for one category."""
-
-    category: str
-    super_category: str
-    module: str | None
-    """Python module of the generator; None when the category falls back to a box."""
-    variants: int
-    fits_support_heights: bool
-    typical_size: tuple[float, float, float]
-    size_source: str
-    box_fallback: bool
-
-    def to_dict(self) -> dict:
-        return {
-            "category": self.category,
-            "super_category": self.super_category,
-            "module": self.module,
-            "variants": self.variants,
-            "fits_support_heights": self.fits_support_heights,
-            "typical_size": list(self.typical_size),
-            "size_source": self.size_source,
-            "box_fallback": self.box_fallback,
-        }
-
-
-def parse_categories(spec: str | Sequence[str] | None) -> list[str]:
-    """Asset categories from a comma-separated string or a list (None: all of them).
-    Unknown names and room features raise a UserError naming them."""
-    if spec is None:
-        return asset_categories()
-    names = [s.strip() for s in spec.split(",")] if isinstance(spec, str) else list(spec)
-    names = [n for n in names if n]
-    if not names:
-        raise UserError("no categories given")
-    allowed = set(asset_categories())
-    bad = [n for n in names if n not in allowed]
-    if bad:
-        raise UserError(f"not an asset category: {', '.join(bad)} (see 'pair2scene assets list')")
-    return list(dict.fromkeys(names))
-
-
-def asset_catalog(categories: str | Sequence[str] | None = None) -> list[AssetEntry]:
-    """One entry per asset category: its generator (if any) and typical size."""
-    from pair2scene.assets.registry import generators
-    from pair2scene.categories import super_category
-
-    gens = generators()
-    out = []
-    for name in parse_categories(categories):
-        gen = gens.get(name)
-        ts = typical_size(name)
-        out.append(
-            AssetEntry(
-                category=name,
-                super_category=super_category(name).value,
-                module=gen.fn.__module__ if gen else None,
-                variants=gen.variants if gen else 1,
-                fits_support_heights=bool(gen and gen.fits_support_heights),
-                typical_size=ts.size,
-                size_source=ts.source,
-                box_fallback=gen is None,
-            )
-        )
-    return out
-
-
-# -- asset contact sheet --------------------------------------------------------------------
-SUPER_COLORS: dict[str, RGB] = {
-    "large_furniture": (205, 165, 115),
-    "fixture": (160, 190, 200),
-    "part": (215, 190, 130),
-    "wall_object": (185, 160, 200),
-    "small_object": (135, 175, 215),
-}
-"""Asset colour by super-category, so the sheet reads by kind at a glance."""
-FALLBACK_COLOR: RGB = (190, 190, 190)
-ERROR_RED: RGB = (200, 0, 0)
-CAPTION_GREY: RGB = (110, 110, 110)
-SHEET_CELL_PX = 160
-"""Side of each of the two views in a sheet cell."""
-
-
-@dataclass(frozen=True)
-class SheetResult:
-    path: Path
-    categories: list[str]
-    box_fallback: list[str]
-    errors: dict[str, str]
-    """Category -> ``ExceptionType: message`` for generators that raised."""
-    seconds: float
-    image_size: tuple[int, int]
-    timings: dict[str, float] = field(default_factory=dict)
-    """Seconds spent generating and rendering, in total."""
-
-
-def category_rng(seed: int, category: str) -> np.random.Generator:
-    """A generator fixed by (seed, category): adding categories changes no other cell."""
-    return np.random.default_rng([seed, zlib.crc32(category.encode())])
-
-
-def asset_cell(
-    category: str, seed: int = 0, cell_px: int = SHEET_CELL_PX, timings: dict | None = None
-) -> tuple[GridCell, bool, str | None]:
-    """One sheet cell: the top and 3/4 views of ``category`` at its typical size.
-
-    Returns (cell, is_box_fallback, error message or None)."""
-    from PIL import Image
-
-    from pair2scene.assets.registry import generate
-    from pair2scene.categories import super_category
-
-    ts = typical_size(category)
-    dims = " x ".join(f"{x:.2f}" for x in ts.size) + " m"
-    t0 = time.perf_counter()
-    error = None
-    try:
-        asset = generate(category, ts.size, rng=category_rng(seed, category))
-    except Exception as e:  # a broken generator must not hide the rest of the sheet
-        error = f"{type(e).__name__}: {e}".splitlines()[0]
-    t1 = time.perf_counter()
-    cell = Image.new("RGB", (2 * cell_px, cell_px), (255, 255, 255))
-    if error is None:
-        fallback = asset.is_fallback
-        color = (
-            FALLBACK_COLOR
-            if fallback
-            else SUPER_COLORS.get(super_category(category).value, FALLBACK_COLOR)
-        )
-        meshes = [p.mesh for p in asset.parts]
-        for k, view in enumerate(("top", "three_quarter")):
-            img = render_meshes(meshes, [color] * len(meshes), view, size=cell_px)
-            cell.paste(img, (k * cell_px, 0))
-        if fallback:
-            status = Caption("(box fallback)", ERROR_RED)
-        else:
-            n_var = generate_variants(category)
-            status = Caption(f"style {asset.style} ({n_var} variants)", CAPTION_GREY)
-    else:
-        fallback = False
-        status = Caption(f"(error) {error}", ERROR_RED)
-    t2 = time.perf_counter()
-    if timings is not None:
-        timings["generate"] = timings.get("generate", 0.0) + (t1 - t0)
-        timings["render"] = timings.get("render", 0.0) + (t2 - t1)
-    captions = (Caption(category), Caption(dims, CAPTION_GREY), status)
-    return GridCell(cell, captions), fallback, error
-
-
-def generate_variants(category: str) -> int:
-    """Number of style variants of ``category``'s generator (1 for a box fallback)."""
-    from pair2scene.assets.registry import generators
-
-    gen = generators().get(category)
-    return gen.variants if gen else 1
-
-
-def asset_sheet(
-    out_path: str | Path,
-    categories: str | Sequence[str] | None = None,
-    seed: int = 0,
-    cell_px: int = SHEET_CELL_PX,
-    columns: int | None = None,
-    progress: bool = False,
-) -> SheetResult:
-    """Write a PNG contact sheet of every asset category (or ``categories``): per category
-    its top and 3/4 views at its typical size, its name, size and style below; box
-    fallbacks and generator errors captioned in red. Same seed, same sheet."""
-    from pair2scene.io.atomic import atomic_write_bytes
-    from pair2scene.progress import track
-
-    names = parse_categories(categories)
-    t0 = time.perf_counter()
-    cells, fallbacks, errors = [], [], {}
-    timings: dict[str, float] = {}
-    for name in track(names, "Rendering assets", enabled=progress):
-        cell, fallback, error = asset_cell(name, seed, cell_px, timings)
-        cells.append(cell)
-        if fallback:
-            fallbacks.append(name)
-        if error is not None:
-            errors[name] = error
-    n_proc = len(names) - len(fallbacks) - len(errors)
-    title = (
-        f"pair2scene assets, seed {seed}: {len(names)} categories, {n_proc} procedural, "
-        f"{len(fallbacks)} box fallback"
-        + (f", {len(errors)} errors" if errors else "")
-        + ". Each cell: top view (+y up), 3/4 view from the front-right; own scale per view."
-    )
-    sheet = compose_grid(cells, columns=columns, title=title)
-    buf = io.BytesIO()
-    sheet.save(buf, format="PNG", optimize=False)
-    atomic_write_bytes(out_path, buf.getvalue())
-    return SheetResult(
-        Path(out_path), names, fallbacks, errors, time.perf_counter() - t0, sheet.size, timings
-    )
-
-
-# -- python -m pair2scene.render ------------------------------------------------------------
-def _main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m pair2scene.render", description=__doc__)
-    parser.add_argument(
-        "--typical-sizes", action="store_true", help="Rewrite the packaged typical-size table."
-    )
-    parser.add_argument("--procthor", default=str(DEFAULT_PROCTHOR), help="ProcTHOR .jsonl.gz")
-    parser.add_argument("--out", default=None, help="Write the table here instead.")
-    args = parser.parse_args(argv)
-    if not args.typical_sizes:
-        parser.print_help()
-        return 2
-    path = write_typical_sizes(args.out, args.procthor)
-    print(f"typical sizes: {path}")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(_main())

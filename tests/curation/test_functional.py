@@ -10,7 +10,6 @@ import pytest
 from llm_server import ChatServer, Reply, completion, ok
 from pair2scene.categories import BY_NAME
 from pair2scene.curation.functional import (
-    TABLE_PATH,
     CheckedProposal,
     CorpusPairStats,
     LLMProposer,
@@ -29,6 +28,7 @@ from pair2scene.curation.functional import (
 )
 from pair2scene.errors import UserError
 from pair2scene.llm import LLMClient, LLMConfig
+from pair2scene.resources import table_path
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import Room, Scene, SceneObject
 
@@ -122,7 +122,7 @@ def test_bad_tables_are_one_line_user_errors(tmp_path, rows, words):
 
 def test_table_is_editable(tmp_path):
     path = tmp_path / "pairs.json"
-    rows = json.loads(TABLE_PATH.read_text()) + [
+    rows = json.loads(table_path("functional_pairs").read_text()) + [
         {"anchor": "bed", "dependent": "laundry_hamper", "k": 0.4, "support": "floor",
          "why": "our users keep the hamper by the bed"}
     ]  # fmt: skip

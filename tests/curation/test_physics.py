@@ -7,10 +7,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from pair2scene.assets.identity import asset_seed
 from pair2scene.curation.physics import (
     PhysicsConfig,
     Role,
-    asset_seed,
     dependents_closure,
     plan_bodies,
     rotation_shift,

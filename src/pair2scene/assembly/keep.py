@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.assembly.collision import TOLERANCES, MeshWorld, Shape, Tolerances, obb_overlaps
+from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.categories import SuperCategory, super_category
-from pair2scene.curation.physics import asset_seed
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy, Node
 from pair2scene.scene.model import FLOOR, Scene, SceneObject

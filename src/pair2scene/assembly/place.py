@@ -57,9 +57,9 @@ from pair2scene.assembly.rest import (
     rest_on_surfaces,
 )
 from pair2scene.assembly.sizes import SizeTable
+from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.curation.physics import asset_seed
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix

@@ -4,7 +4,7 @@
 type, from the support boxes of a 3D-Pairs folder's floor tuples (3D-Pairs keeps a room's
 bounds, not its polygon, so generated rooms are rectangles). :func:`make_room` draws one
 and puts a door on one of its walls. The table of the AI2-THOR + ProcTHOR-1k train rooms
-ships with the package (``rooms.json``).
+ships with the package (``resources/rooms.json``).
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ from pair2scene.scene.model import FLOOR, Opening, Room
 
 ROOMS_FORMAT = "pair2scene.rooms"
 ROOMS_VERSION = 1
-DEFAULT_ROOMS = Path(__file__).parent / "rooms.json"
 DOOR_WIDTH_M = 0.9
 DOOR_HEIGHT_M = 2.1
 DOOR_CORNER_GAP_M = 0.2
@@ -83,8 +82,8 @@ class RoomTable:
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> RoomTable:
-        path = DEFAULT_ROOMS if path is None else Path(path)
-        return cls(read_size_arrays(path, ROOMS_FORMAT, ROOMS_VERSION, "room table"))
+        """A table written by :meth:`save` (None: the bundled one)."""
+        return cls(read_size_arrays("rooms", path, "room table"))
 
 
 def make_room(

@@ -7,7 +7,7 @@ dependents of its train split, rounded to a millimetre); :meth:`SizeTable.draw` 
 and scales it by a small log-normal jitter, so sizes are real combinations of width,
 depth and height (a wide and low sofa, never a wide, deep and tall one). A category the
 data never had falls back to the asset library's typical size. The table for the AI2-THOR
-+ ProcTHOR-1k train rooms ships with the package (``sizes.json``).
++ ProcTHOR-1k train rooms ships with the package (``resources/sizes.json``).
 """
 
 from __future__ import annotations
@@ -20,11 +20,10 @@ import numpy as np
 
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
-from pair2scene.io.jsondoc import read_json_document
+from pair2scene.resources import load_table, table_path
 
 SIZES_FORMAT = "pair2scene.sizes"
 SIZES_VERSION = 1
-DEFAULT_SIZES = Path(__file__).parent / "sizes.json"
 KEEP_PER_CATEGORY = 64
 """Observed sizes kept per category (an even subsample of the sorted volumes beyond it)."""
 JITTER = 0.05
@@ -63,7 +62,7 @@ class SizeTable:
         does, the smallest footprint is taken)."""
         observed = self.sizes.get(category)
         if observed is None or len(observed) == 0:
-            from pair2scene.render import typical_size
+            from pair2scene.assets.typical_sizes import typical_size
 
             observed = np.asarray(typical_size(category).size, dtype=float)[None]
         if fits is not None:
@@ -86,13 +85,14 @@ class SizeTable:
     @classmethod
     def load(cls, path: str | Path | None = None) -> SizeTable:
         """A table written by :meth:`save` (None: the bundled one)."""
-        path = DEFAULT_SIZES if path is None else Path(path)
-        return cls(read_size_arrays(path, SIZES_FORMAT, SIZES_VERSION, "size table"))
+        return cls(read_size_arrays("sizes", path, "size table"))
 
 
-def read_size_arrays(path: Path, fmt: str, version: int, what: str) -> dict[str, np.ndarray]:
-    """The ``sizes`` field of a JSON table: name -> (K, 3) finite positive sizes (m)."""
-    doc = read_json_document(path, fmt, version)
+def read_size_arrays(table: str, path: str | Path | None, what: str) -> dict[str, np.ndarray]:
+    """The ``sizes`` field of bundled table ``table`` (``rooms`` or ``sizes``), or of a
+    user's file of that kind at ``path``: name -> (K, 3) finite positive sizes (m)."""
+    doc = load_table(table, path)
+    path = table_path(table) if path is None else path
     try:
         sizes = {k: np.asarray(v, dtype=float).reshape(-1, 3) for k, v in doc["sizes"].items()}
     except (KeyError, TypeError, ValueError, AttributeError) as e:

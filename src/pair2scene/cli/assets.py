@@ -1,7 +1,8 @@
 """``pair2scene assets``: list the procedural asset library, draw its contact sheet.
 
 Thin: each command parses its arguments and calls one function of
-:mod:`pair2scene.render`, which a Python user can call the same way.
+:mod:`pair2scene.assets.catalog` or :mod:`pair2scene.assets.sheet`, which a Python user
+can call the same way.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ def assets_list(
     "box_fallback"}, ...], "counts": {"categories": N, "procedural": P,
     "box_fallback": B}} with N = P + B.
     """
-    from pair2scene.render import asset_catalog
+    from pair2scene.assets.catalog import asset_catalog
 
     entries = asset_catalog(categories)
     n_box = sum(e.box_fallback for e in entries)
@@ -73,7 +74,7 @@ def assets_sheet(
     Box fallbacks are captioned in red. A generator that raises gets a red error cell,
     a warning on stderr, and exit code 1 once the sheet is written.
     """
-    from pair2scene.render import asset_sheet
+    from pair2scene.assets.sheet import asset_sheet
 
     result = asset_sheet(out, categories=categories, seed=seed, columns=columns, progress=True)
     w, h = result.image_size

@@ -40,11 +40,9 @@ import numpy as np
 
 from pair2scene.categories import BY_NAME, RoomType, SuperCategory, super_category
 from pair2scene.errors import UserError
+from pair2scene.resources import load_table, table_path
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
-
-TABLE_PATH = Path(__file__).with_name("functional_pairs.json")
-"""The shipped table of commonsense functional pairs (edit it, or pass your own)."""
 
 # -- thresholds (one place, each with its reason) -----------------------------------------
 
@@ -130,13 +128,8 @@ def load_pair_table(path: str | Path | None = None) -> tuple[PairRule, ...]:
     :data:`K_RANGE_M`; a pair may not appear twice nor in both directions on
     the same support. Anything else is a :class:`UserError` naming the row.
     """
-    path = Path(path) if path is not None else TABLE_PATH
-    try:
-        rows = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise UserError(f"{path}: cannot read the pair table ({exc.strerror})") from None
-    except ValueError as exc:
-        raise UserError(f"{path}: not JSON ({exc})") from None
+    rows = load_table("functional_pairs", path)
+    path = Path(path) if path is not None else table_path("functional_pairs")
     if not isinstance(rows, list):
         raise UserError(f"{path}: expected a list of pairs")
     rules: list[PairRule] = []

@@ -50,13 +50,13 @@ quaternions (4,) in MuJoCo's (w, x, y, z) order.
 from __future__ import annotations
 
 import time
-import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from enum import Enum
 
 import numpy as np
 
+from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.geometry import OrientedBox
@@ -105,7 +105,7 @@ class PhysicsConfig:
     than this: a 7 cm potato rolling onto a facet of its procedural hull, or a pen
     rolling a quarter turn, turns past 10 degrees while nothing visibly moved."""
     seed: int = 0
-    """Mixed into each object's asset seed (:func:`asset_seed`)."""
+    """Mixed into each object's asset seed (:func:`~pair2scene.assets.identity.asset_seed`)."""
 
 
 class Role(str, Enum):
@@ -186,12 +186,6 @@ class PhysicsOutcome:
 
 
 # -- planning --------------------------------------------------------------------------
-def asset_seed(object_id: str, seed: int = 0) -> int:
-    """A stable seed for an object's asset: the same object gets the same asset in every
-    run and every stage (crc32 of the id, not Python's salted ``hash``)."""
-    return (zlib.crc32(object_id.encode("utf-8")) ^ (seed * 0x9E3779B1)) & 0xFFFFFFFF
-
-
 def _resting_on(o: SceneObject) -> str | None:
     """The object ``o`` rests on, as far as the scene knows."""
     return o.support if o.support is not None else o.source_support

@@ -32,12 +32,12 @@ adapters resolve them (:func:`pair2scene.data.support.resolve_part_hosts`).
 
 from __future__ import annotations
 
-import zlib
 from collections import Counter, OrderedDict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from pair2scene.assets.identity import asset_seed
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 
@@ -49,7 +49,6 @@ __all__ = [
     "SupportConfig",
     "SupportError",
     "SupportScores",
-    "asset_seed",
     "extract_support",
     "find_supports",
     "support_scores",
@@ -182,14 +181,6 @@ class SupportScores:
 
 
 # -- extraction -----------------------------------------------------------------------
-def asset_seed(scene_id: str, obj: SceneObject) -> int:
-    """The seed of an object's stand-in asset: from the source's asset id when it has
-    one (the same sofa model gets the same stand-in in every room, and its surfaces are
-    computed once), else from the scene and object ids."""
-    key = obj.asset.id if obj.asset is not None and obj.asset.id else f"{scene_id}/{obj.id}"
-    return zlib.crc32(f"{obj.category}/{key}".encode())
-
-
 def _box_arrays(objects: list[SceneObject]) -> tuple[np.ndarray, ...]:
     """centres (N, 3), half sizes (N, 3), rotations (N, 3, 3), bottoms (N,), tops (N,)."""
     c = np.array([o.box.center for o in objects]).reshape(-1, 3)
@@ -340,7 +331,7 @@ def find_supports(
             )  # fmt: skip
             tiers = np.unique(np.round((bottom[rest] - bottom[j]) / cfg.tier_round_m))
             heights = tuple(float(t * cfg.tier_round_m) for t in tiers)
-            surfs = _surfaces(objects[j], asset_seed(scene.id, objects[j]), heights, library)
+            surfs = _surfaces(objects[j], asset_seed(objects[j].id), heights, library)
             zs = bottom[j] + np.array([z for z, _ in surfs]).reshape(-1)  # (S,) world
             for i in np.flatnonzero(ask[:, j]):
                 rel = bottom[i] - zs

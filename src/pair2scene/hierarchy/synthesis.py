@@ -42,11 +42,9 @@ from pair2scene.categories import BY_NAME
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import NOT_OBJECTS, Hierarchy, Node
+from pair2scene.resources import load_table, table_path
 from pair2scene.scene.model import FLOOR
 
-DEFAULT_STATS = Path(__file__).parent / "stats.json"
-"""Statistics of the curated AI2-THOR + ProcTHOR-1k train rooms, shipped with the package
-(``pair2scene curate ... --out DIR`` writes the same file as ``DIR/stats.json``)."""
 MODES = ("fit", "beyond")
 DEFAULT_BEYOND_OBJECTS = 80
 MAX_PASSES = 50
@@ -112,17 +110,14 @@ class SynthesisConfig:
 
 @lru_cache(maxsize=4)
 def _load_stats(path: str) -> HierarchyStats:
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as e:
-        raise UserError(f"{p}: cannot read statistics ({e.strerror})") from None
-    return HierarchyStats.from_json(text, str(p))
+    return HierarchyStats.from_dict(load_table("hierarchy_stats", path), path)
 
 
 def load_stats(path: str | Path | None = None) -> HierarchyStats:
-    """Hierarchy statistics from a ``stats.json`` (None: the bundled ones)."""
-    return _load_stats(str(DEFAULT_STATS if path is None else Path(path)))
+    """Hierarchy statistics from a ``stats.json`` (None: the bundled ones, those of the
+    curated AI2-THOR + ProcTHOR-1k train rooms; ``pair2scene curate ... --out DIR``
+    writes the same file as ``DIR/stats.json``)."""
+    return _load_stats(str(table_path("hierarchy_stats") if path is None else Path(path)))
 
 
 class Statistics:

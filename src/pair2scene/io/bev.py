@@ -26,7 +26,7 @@ def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE):
     """Top view (PIL image): floor, walls, objects in semantic colours, and a legend."""
     from PIL import Image, ImageDraw
 
-    from pair2scene.render import _font, render_meshes
+    from pair2scene.render import caption_font, render_meshes
 
     walls = room_meshes(scene.room)
     objs = object_meshes(scene, assets)
@@ -40,7 +40,7 @@ def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE):
                        [hi[0] + WALL_THICKNESS_M, hi[1] + WALL_THICKNESS_M, hi[2]]])  # fmt: skip
     view = render_meshes(meshes, colors, "top", size, bounds=bounds)
     cats = sorted({c for _, c, _ in objs})
-    font = _font(14)
+    font = caption_font(14)
     out = Image.new("RGB", (size + LEGEND_WIDTH, size), (255, 255, 255))
     out.paste(view, (0, 0))
     draw = ImageDraw.Draw(out)

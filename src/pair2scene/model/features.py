@@ -42,11 +42,11 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.pointcloud import sample_asset
 from pair2scene.categories import UNKNOWN
 from pair2scene.curation.dataset import CATEGORY_VOCAB, PairsDataset
-from pair2scene.curation.physics import asset_seed
 from pair2scene.model.layout import (
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
@@ -167,7 +167,7 @@ class CloudSpec:
     size: tuple[float, float, float]
     """Box size (m); for the floor, the room's bounds."""
     seed: int
-    """Asset seed (:func:`~pair2scene.curation.physics.asset_seed` of the object id, as
+    """Asset seed (:func:`~pair2scene.assets.identity.asset_seed` of the object id, as
     the curation's physics check draws it)."""
     support_heights: tuple[float, ...] = ()
     """Heights above the bottom where the data's objects rest on it (shelf tiers)."""

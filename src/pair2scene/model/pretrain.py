@@ -162,7 +162,7 @@ def build_clouds(
     (first=count of training) never share an asset, and adding categories leaves
     the others' assets unchanged.
     """
-    from pair2scene.render import typical_size  # the size table lives beside the renderer
+    from pair2scene.assets.typical_sizes import typical_size
 
     names = [c.name for c in CATEGORIES]
     gens = generators()
