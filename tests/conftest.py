@@ -7,6 +7,14 @@ import pytest
 FIXTURES = Path(__file__).parent / "fixtures"
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 PROCTHOR_1K = SHARED / "data" / "procthor-1k"
+NO_SHARED = f"needs the full ProcTHOR-1k data at {PROCTHOR_1K} (../shared beside the checkout)"
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    # Tests marked shared_data need the full data set; CI has it beside the clone,
+    # a fresh machine does not. Skip (not deselect) so they still run where it exists.
+    if item.get_closest_marker("shared_data") and not PROCTHOR_1K.is_dir():
+        pytest.skip(NO_SHARED)
 
 
 @pytest.fixture(scope="session")
@@ -31,6 +39,8 @@ def ai2thor_corpus(ai2thor_databases):
 
 @pytest.fixture(scope="session")
 def procthor_1k() -> Path:
+    """The full ProcTHOR-1k folder; tests using it are marked shared_data.
+    Tests that only need some houses use fixtures / "procthor" instead."""
     if not PROCTHOR_1K.is_dir():
-        pytest.fail(f"{PROCTHOR_1K} is missing: tests expect ../shared beside the checkout")
+        pytest.skip(NO_SHARED)
     return PROCTHOR_1K

@@ -39,6 +39,7 @@ def test_unknown_category_gets_a_labelled_box():
     assert a.is_fallback and a.source == "box" and len(a.parts) == 1
 
 
+@pytest.mark.shared_data
 def test_every_corpus_category_has_a_real_generator(ai2thor_corpus, procthor_1k):
     from pair2scene.data.procthor import load_procthor
 

@@ -278,6 +278,7 @@ def test_corpus_statistics_round_trip(ai2thor_stats):
     assert again.stats == ai2thor_stats.stats and again.rules() == ai2thor_stats.rules()
 
 
+@pytest.mark.shared_data
 def test_corpus_statistics_on_procthor(procthor_1k):
     from pair2scene.data.sources import load_source
 

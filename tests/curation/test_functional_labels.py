@@ -53,6 +53,7 @@ def test_enough_rooms_of_both_sources(labels):
     assert all(per_source[s] >= 12 for s in SOURCES), per_source
 
 
+@pytest.mark.shared_data
 def test_pairs_are_functional_pairs_of_their_room(labels, val_scenes):
     for room in labels["rooms"]:
         rid = room["room"]

@@ -406,6 +406,7 @@ def test_integration_curate_cli_real_stages(tmp_path):
     assert HierarchyStats.from_json((out / "stats.json").read_text()).rooms == 3
 
 
+@pytest.mark.shared_data
 @pytest.mark.slow
 def test_integration_full_curation_ai2thor_and_procthor(tmp_path, procthor_1k):
     """The issue's acceptance run: both corpora, physics on; support F1 >= 0.95 on AI2-THOR."""

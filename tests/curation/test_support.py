@@ -171,6 +171,7 @@ def test_ai2thor_val_f1(ai2thor_corpus):
     assert support_scores(scenes, include_floor=False).f1 >= 0.95  # measured 0.973
 
 
+@pytest.mark.shared_data
 def test_procthor_val_f1(procthor_1k):
     from pair2scene.data.procthor import load_procthor
 

@@ -56,6 +56,7 @@ def test_nested_children_rest_on_their_parent(small):
                 assert gap > -objs[o.support].box.size[2], (s.id, o.id, gap)
 
 
+@pytest.mark.shared_data
 def test_shared_procthor_counts(procthor_1k):
     train = load_procthor(procthor_1k / "train.jsonl.gz")
     val = load_procthor(procthor_1k / "val.jsonl.gz")
@@ -70,9 +71,14 @@ def test_shared_procthor_counts(procthor_1k):
     assert 15 < n < 35  # "~23 objects each"
 
 
-def test_folder_and_split_filter(procthor_1k):
-    both = load_procthor(procthor_1k, split="val")
-    assert len(both.scenes) == 100 and {s.split for s in both.scenes} == {"val"}
+def test_folder_and_split_filter(fixtures):
+    # the fixture folder holds train.jsonl.gz (3 houses) and val.jsonl.gz (4 houses)
+    folder = fixtures / "procthor"
+    both = load_procthor(folder, split="val", databases=fixtures / "ai2thor")
+    assert len(both.scenes) == 4 and {s.split for s in both.scenes} == {"val"}
+    assert {s.id.split("/")[2] for s in both.scenes} == {"0", "1", "2", "3"}
+    everything = load_procthor(folder, databases=fixtures / "ai2thor")
+    assert len(everything.scenes) == 7
 
 
 @pytest.mark.parametrize(

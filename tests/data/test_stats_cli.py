@@ -34,6 +34,7 @@ def test_ai2thor_reports_195_rooms():
     assert val["rooms"] == 35 and val["split"] == "val"
 
 
+@pytest.mark.shared_data
 @pytest.mark.usefixtures("ai2thor_databases")
 def test_procthor_train_reports_500_rooms(procthor_1k):
     s = stats(f"procthor:{procthor_1k / 'train.jsonl.gz'}")

@@ -11,7 +11,7 @@ and they disagree with that box (an asset whose bounding box is rotated inside
 its prefab, an open laptop), the box is refit to the corners, keeping the
 object's rotation, and the refit is counted in the report. Then the frame is
 turned so that +y is the object's front where the asset is modelled facing
-another way (``pair2scene.data.front``, measured from these rooms).
+another way (``pair2scene.data.orientation``, measured from these rooms).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import numpy as np
 from pair2scene.categories import AI2THOR_LABELS, LabelMapper, RoomType, is_structure
 from pair2scene.data import unity
 from pair2scene.data.base import Corpus, SourceReport
-from pair2scene.data.front import front_offset_deg, turn_front
+from pair2scene.data.orientation import front_offset_deg, turn_front
 from pair2scene.data.support import (
     floor_by_height,
     resolve_part_hosts,
@@ -186,7 +186,7 @@ def convert_room(
     """One AI2-THOR room (its list of object records) -> Scene, floor moved to z = 0.
 
     correct_front : turn each box's frame so that +y is the object's front
-    (pair2scene.data.front); off only to measure the raw conversion.
+    (pair2scene.data.orientation); off only to measure the raw conversion.
     """
     # Walls are lined with windows, paintings, switches and furniture: the extent of
     # everything but the floor approximates the walls. iTHOR's Floor object can run

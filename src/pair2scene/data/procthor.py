@@ -4,7 +4,7 @@ Each room of a house becomes one scene. Object positions are box centres
 (Unity, y-up, left-handed), rotations Euler angles, sizes come from the asset
 database of the AI2-THOR wheel. Objects resting on furniture are nested as
 ``children`` of it: that nesting is the source's support annotation. Frames
-follow the front convention measured in ``pair2scene.data.front``.
+follow the front convention measured in ``pair2scene.data.orientation``.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from pair2scene.categories import (
 )
 from pair2scene.data import unity
 from pair2scene.data.base import SPLITS, Corpus, SourceReport, stable_fraction
-from pair2scene.data.front import front_offset_deg, turn_front
+from pair2scene.data.orientation import front_offset_deg, turn_front
 from pair2scene.data.support import ON_FLOOR_M
 from pair2scene.errors import UserError
 from pair2scene.scene.geometry import OrientedBox, points_in_polygon
@@ -104,7 +104,7 @@ def convert_house(
     """One ProcTHOR house -> one Scene per room.
 
     correct_front : turn each box's frame so that +y is the object's front
-    (pair2scene.data.front); off only to measure the raw conversion.
+    (pair2scene.data.orientation); off only to measure the raw conversion.
     """
     rooms = house.get("rooms") or []
     polys = []

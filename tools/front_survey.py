@@ -21,10 +21,11 @@ frame, turned by each of the four yaw offsets (0, 90, 180, 270 degrees about
 local z), puts its +y within 45 degrees of exactly one offset's direction: the
 counts of these offsets over a (source, category, cue) are the measurement
 (:func:`observe`, :func:`measure`). Corrections are fitted from them
-(:func:`suggest_offsets`) into :data:`FRONT_YAW_OFFSET_DEG` (per category) and
-:data:`FRONT_YAW_OFFSET_BY_ASSET_DEG` (per asset, where an asset is modelled
-unlike its category); the adapters apply them once, through :func:`turn_front`.
-``python -m pair2scene.data.front`` prints the figures, checks the tables
+(:func:`suggest_offsets`) into ``FRONT_YAW_OFFSET_DEG`` (per category) and
+``FRONT_YAW_OFFSET_BY_ASSET_DEG`` (per asset, where an asset is modelled
+unlike its category); the adapters apply them once, through ``turn_front``
+(both live in ``pair2scene.data.orientation``, the run-time half).
+``python tools/front_survey.py`` prints the figures, checks the tables
 against the data and writes ``docs/front_convention.md``.
 """
 
@@ -42,66 +43,15 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.categories import SuperCategory
-from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
+from pair2scene.data.orientation import (
+    FRONT_YAW_OFFSET_BY_ASSET_DEG,
+    FRONT_YAW_OFFSET_DEG,
+    OFFSETS_DEG,
+    front_offset_deg,
+    turn_front,
+)
+from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
-
-OFFSETS_DEG: tuple[int, ...] = (0, 90, 180, 270)
-"""Yaw offsets about local z, counter-clockwise seen from above: the corrected
-front is the old +y (0), -x (90), -y (180) or +x (270)."""
-
-# -- the correction ---------------------------------------------------------------------------
-
-# Derived from, and checked against, the measurements below (see
-# docs/front_convention.md and tests/data/test_front.py). Categories not listed
-# keep the adapter's Unity-forward front (offset 0).
-FRONT_YAW_OFFSET_DEG: dict[str, dict[str, int]] = {
-    # iTHOR's bed prefabs (Bed_1 ... Bed_30) have their headboard at Unity +z;
-    # ProcTHOR's copies of the same assets have it at -z like the rest.
-    "ai2thor": {"bed": 180},
-    "procthor": {},
-}
-"""source -> category -> yaw offset in degrees (one of :data:`OFFSETS_DEG`)."""
-
-FRONT_YAW_OFFSET_BY_ASSET_DEG: dict[str, dict[str, int]] = {
-    "ai2thor": {
-        # RoboTHOR's own beds follow Unity +z, unlike iTHOR's
-        "RoboTHOR_bed_grankulla": 0,
-        "RoboTHOR_bed_hemnes": 0,
-        "RoboTHOR_bed_kritter": 0,
-        "RoboTHOR_hemnes_day_bed": 0,
-        # five of iTHOR's nine TV stands face Unity -z (wall and TV agree on each)
-        "TV_Stand_201_1": 180,
-        "TV_Stand_202_1": 180,
-        "TV_Stand_211_1": 180,
-        "TV_Stand_222_1": 180,
-        "TV_Stand_223_1": 180,
-    },
-    "procthor": {},
-}
-"""source -> asset id -> yaw offset in degrees, overriding the asset's category."""
-
-
-def front_offset_deg(source: str, category: str, asset_id: str | None = None) -> int:
-    """The yaw offset (degrees) that turns an object's adapter frame to face its front."""
-    by_asset = FRONT_YAW_OFFSET_BY_ASSET_DEG.get(source, {})
-    if asset_id is not None and asset_id in by_asset:
-        return by_asset[asset_id]
-    return FRONT_YAW_OFFSET_DEG.get(source, {}).get(category, 0)
-
-
-def turn_front(box: OrientedBox, offset_deg: int) -> OrientedBox:
-    """The same box with its local frame turned by ``offset_deg`` about local z.
-
-    Rotation R' = R @ Rz(offset); for 90 and 270 degrees the local x and y
-    extents swap, so the box occupies exactly the same space (same corner set).
-    """
-    if offset_deg not in OFFSETS_DEG:
-        raise ValueError(f"front offset must be one of {OFFSETS_DEG}, got {offset_deg}")
-    if offset_deg == 0:
-        return box
-    size = box.size if offset_deg == 180 else box.size[[1, 0, 2]]
-    return OrientedBox(box.center, size, box.rotation @ yaw_to_matrix(np.radians(offset_deg)))
-
 
 # -- cue geometry -----------------------------------------------------------------------------
 
@@ -954,7 +904,7 @@ pair2scene's object frame has +y at the object's **front**: the side it faces
 at -y, a TV's screen). The Unity adapters map an asset's local forward (Unity
 +z) to +y; this page measures where the front of each category really points in
 AI2-THOR and ProcTHOR, and records the corrections the adapters apply
-(`pair2scene.data.front`). It is written by `python -m pair2scene.data.front`.
+(`pair2scene.data.orientation`). It is written by `python tools/front_survey.py`.
 
 ## Method
 
@@ -1005,7 +955,7 @@ corner set: the OBB test of the AI2-THOR adapter is unchanged).
 
 A (source, category, cue) with at least {min_samples} readings is **checked**:
 after the correction at least {bar:.0f}% of its readings must agree
-(`tests/data/test_front.py`), except the rows listed as below the bar, each
+(`tests/data/test_front_survey.py`), except the rows listed as below the bar, each
 with its reason. Columns: n readings; +y before: share with the raw +y at the
 cue; raw mode: the offset most raw readings call for; same asset: how often
 an asset's readings agree with each other (a reliable cue on consistently
@@ -1123,7 +1073,7 @@ def tables_match(report: FrontReport) -> list[str]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="python -m pair2scene.data.front",
+        prog="python tools/front_survey.py",
         description="Measure where each category's front points in AI2-THOR and ProcTHOR, "
         "before and after the adapters' correction, and write the doc.",
     )
