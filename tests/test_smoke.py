@@ -55,9 +55,9 @@ def test_curate_train_generate_evaluate(fixtures, tmp_path):
     summary = generate_scenes(
         scenes, room="living_room", num=2, model=str(ckpt), llm="never", progress=False
     )
-    assert len(summary["scenes"]) == 2
-    for entry in summary["scenes"]:
-        scene = read_scene(scenes / entry["id"] / "scene.json")  # validates the contract
+    assert list(summary.scenes) == ["living_room_0000", "living_room_0001"]
+    for sid in summary.scenes:
+        scene = read_scene(scenes / sid / "scene.json")  # validates the contract
         assert scene.room.type == "living_room"
         assert len(scene.objects) > 0
 
