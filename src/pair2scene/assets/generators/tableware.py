@@ -30,6 +30,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from pair2scene.assets.generators.shapes import FINE_SEGMENTS, ROD_SEGMENTS, lathe
 from pair2scene.assets.mesh import (
     Mesh,
     Part,
@@ -46,12 +47,8 @@ from pair2scene.assets.registry import register
 from pair2scene.scene.geometry import rot_y as _rot_y
 from pair2scene.scene.geometry import rot_z as _rot_z
 
-ROUND = 16
-"""Sides of a round body (bottles, fruit): reads as round in a 256 px view."""
 SECTORS = 12
 """Wall sectors of a hollow vessel: round enough, and a modest part count (one part each)."""
-THIN = 8
-"""Sides of thin rods (stems, wicks, handles): they are a few pixels wide."""
 EDGE_RATIO = 1.2
 """A utensil box taller than this times its width holds the utensil on its edge."""
 UPRIGHT_RATIO = 0.8
@@ -102,57 +99,6 @@ def _beam(
     s /= np.linalg.norm(s)
     rot = np.column_stack([u, s, np.cross(u, s)])
     return box((p0 + p1) / 2, (length, width, thickness), rotation=rot)
-
-
-def _lathe(
-    center: Sequence[float],
-    rx: float,
-    ry: float,
-    profile: Sequence[Sequence[float]],
-    segments: int = ROUND,
-) -> Mesh:
-    """Solid of revolution with elliptic sections around a vertical axis.
-
-    center : (2,) axis position (x, y). profile : (K, 2) rows (r, z), z increasing; r is a
-    fraction of the radii (rx, ry); r == 0 at an end makes an apex. The solid is convex
-    when r is a concave function of z (bulging profiles, tapers, domes)."""
-    cx, cy = float(center[0]), float(center[1])
-    n = segments
-    a = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    ux, uy = rx * np.cos(a), ry * np.sin(a)
-    verts: list[np.ndarray] = []
-    rings: list[np.ndarray | int] = []  # vertex indices of each level, or an apex index
-    count = 0
-    z_ends = (float(profile[0][1]), float(profile[-1][1]))
-    for r, z in profile:
-        if r <= 0.0:
-            verts.append(np.array([[cx, cy, z]]))
-            rings.append(count)
-            count += 1
-        else:
-            verts.append(np.stack([cx + r * ux, cy + r * uy, np.full(n, float(z))], axis=1))
-            rings.append(np.arange(count, count + n))
-            count += n
-    faces: list[list[int]] = []
-    for lo, hi in zip(rings[:-1], rings[1:]):
-        for i in range(n):
-            j = (i + 1) % n
-            if isinstance(lo, int):
-                faces.append([lo, hi[j], hi[i]])
-            elif isinstance(hi, int):
-                faces.append([lo[i], lo[j], hi])
-            else:
-                faces += [[lo[i], lo[j], hi[j]], [lo[i], hi[j], hi[i]]]
-    for end, z, flip in ((rings[0], z_ends[0], True), (rings[-1], z_ends[1], False)):
-        if isinstance(end, int):
-            continue
-        c = count
-        verts.append(np.array([[cx, cy, z]]))
-        count += 1
-        for i in range(n):
-            j = (i + 1) % n
-            faces.append([c, end[j], end[i]] if flip else [c, end[i], end[j]])
-    return Mesh(np.concatenate(verts), np.array(faces))
 
 
 def _sector(
@@ -258,7 +204,7 @@ def _ellipse(
     cy: float,
     rx: float,
     ry: float,
-    n: int = ROUND,
+    n: int = FINE_SEGMENTS,
     a0: float = 0.0,
     a1: float = 2.0 * np.pi,
     endpoint: bool = False,
@@ -268,7 +214,7 @@ def _ellipse(
     return np.stack([cx + rx * np.cos(a), cy + ry * np.sin(a)], axis=1)
 
 
-def _slab(points: Sequence[Sequence[float]], z0: float, z1: float) -> Mesh:
+def _extruded_hull(points: Sequence[Sequence[float]], z0: float, z1: float) -> Mesh:
     """Convex hull of a 2D outline (N, 2) extruded from z0 to z1 (outline order free)."""
     p = np.asarray(points, dtype=float)
     return hull(np.concatenate([np.c_[p, np.full(len(p), z0)], np.c_[p, np.full(len(p), z1)]]))
@@ -364,9 +310,10 @@ def cup(size, rng, style, support_heights):
     bowl_floor = 0.05 * h
     parts = [
         Part(
-            "foot", frustum((0, 0, z0), foot_h, (0.8 * rx, 0.8 * ry), (0.7 * rx, 0.7 * ry), ROUND)
+            "foot",
+            frustum((0, 0, z0), foot_h, (0.8 * rx, 0.8 * ry), (0.7 * rx, 0.7 * ry), FINE_SEGMENTS),
         ),
-        Part("stem", cylinder((0, 0, (z0 + z_bowl) / 2), stem_r, z_bowl - z0, THIN)),
+        Part("stem", cylinder((0, 0, (z0 + z_bowl) / 2), stem_r, z_bowl - z0, ROD_SEGMENTS)),
         # radii in proportion at both ends: a circle-to-ellipse frustum has warped sides
         Part(
             "bowl_base",
@@ -464,7 +411,7 @@ def plate(size, rng, style, support_heights):
     sx, sy, h = (float(v) for v in size)
     rx, ry, z0 = sx / 2, sy / 2, -h / 2
     c = (0.0, 0.0)
-    sectors = ROUND  # a plate is seen mostly from above: its outline must look round
+    sectors = FINE_SEGMENTS  # a plate is seen mostly from above: its outline must look round
     foot_h = 0.2 * h
     zf = z0 + foot_h
     floor_t = 0.25 * h
@@ -548,7 +495,7 @@ def pot(size, rng, style, support_heights):
         parts.append(
             Part(
                 f"handle_{name}",
-                _slab(
+                _extruded_hull(
                     [
                         (x_in, -span / 2),
                         (x_in, span / 2),
@@ -622,7 +569,7 @@ def _pan(sx, sy, h, rng, style):
         Part(
             "handle", _rod((x_rim + 0.14 * handle_len, 0, zb), (sx / 2 - r, 0, zt - r), r, 1.15 * r)
         ),
-        Part("handle_end", ellipsoid((sx / 2 - r, 0, zt - r), 1.15 * r, 4, THIN)),
+        Part("handle_end", ellipsoid((sx / 2 - r, 0, zt - r), 1.15 * r, 4, ROD_SEGMENTS)),
     ]
     return parts
 
@@ -642,15 +589,16 @@ def kettle(size, rng, style, support_heights):
         zb = z0 + hb
         profile = [(0.9, z0), (1.0, z0 + 0.3 * hb), (0.86, z0 + 0.72 * hb), (0.42, zb)]
         parts = [
-            Part("body", _lathe((0, cy), rx, ry, profile)),
+            Part("body", lathe(profile, rx, ry, center=(0, cy), hull_of_rings=False)),
             Part(
                 "lid_knob",
-                _lathe(
-                    (0, cy),
+                lathe(
+                    [(1.0, zb - 0.01 * h), (1.0, zb + 0.05 * h), (0.6, zb + 0.08 * h)],
                     0.12 * rx,
                     0.12 * ry,
-                    [(1.0, zb - 0.01 * h), (1.0, zb + 0.05 * h), (0.6, zb + 0.08 * h)],
-                    THIN,
+                    ROD_SEGMENTS,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             ),
         ]
@@ -696,17 +644,25 @@ def kettle(size, rng, style, support_heights):
     zb = zt - 0.04 * h
     top = rng.uniform(0.84, 0.9)
     parts = [
-        Part("base", frustum((0, cy, z0), base_h, (1.02 * rx, 1.02 * ry), (rx, ry), ROUND)),
+        Part("base", frustum((0, cy, z0), base_h, (1.02 * rx, 1.02 * ry), (rx, ry), FINE_SEGMENTS)),
         Part(
-            "body", _lathe((0, cy), rx, ry, [(0.98, z0 + base_h), (1.0, z0 + 0.4 * h), (top, zb)])
+            "body",
+            lathe(
+                [(0.98, z0 + base_h), (1.0, z0 + 0.4 * h), (top, zb)],
+                rx,
+                ry,
+                center=(0, cy),
+                hull_of_rings=False,
+            ),
         ),
         Part(
             "lid",
-            _lathe(
-                (0, cy),
+            lathe(
+                [(1.0, zb - 0.01 * h), (1.0, zb + 0.02 * h), (0.4, zt)],
                 0.8 * top * rx,
                 0.8 * top * ry,
-                [(1.0, zb - 0.01 * h), (1.0, zb + 0.02 * h), (0.4, zt)],
+                center=(0, cy),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -784,9 +740,11 @@ def _neck_and_cap(
     return [
         Part(
             "neck",
-            _disc((0, 0), neck * rx, neck * ry, z_neck, z_cap + 0.01 * (zt - z_neck), ROUND),
+            _disc(
+                (0, 0), neck * rx, neck * ry, z_neck, z_cap + 0.01 * (zt - z_neck), FINE_SEGMENTS
+            ),
         ),
-        Part("cap", _disc((0, 0), cap * rx, cap * ry, z_cap, zt, ROUND)),
+        Part("cap", _disc((0, 0), cap * rx, cap * ry, z_cap, zt, FINE_SEGMENTS)),
     ]
 
 
@@ -801,10 +759,7 @@ def bottle(size, rng, style, support_heights):
     if style == 0:
         z_sh = z0 + rng.uniform(0.55, 0.62) * h
         z_neck = z0 + 0.82 * h
-        body = _lathe(
-            (0, 0),
-            rx,
-            ry,
+        body = lathe(
             [
                 (0.9, z0),
                 (1.0, z0 + 0.03 * h),
@@ -812,6 +767,10 @@ def bottle(size, rng, style, support_heights):
                 (0.75, z_sh + 0.55 * (z_neck - z_sh)),
                 (neck, z_neck),
             ],
+            rx,
+            ry,
+            center=(0, 0),
+            hull_of_rings=False,
         )
         parts = [Part("body", body)]
     else:
@@ -827,7 +786,7 @@ def bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[0.97 * outline, np.full(8, z_sh)],
-                            np.c_[top, np.full(ROUND, z_neck)],
+                            np.c_[top, np.full(FINE_SEGMENTS, z_neck)],
                         ]
                     )
                 ),
@@ -867,17 +826,25 @@ def wine_bottle(size, rng, style, support_heights):
         ]
     z_caps = zt - 0.13 * h
     return [
-        Part("body", _lathe((0, 0), rx, ry, profile)),
+        Part("body", lathe(profile, rx, ry, center=(0, 0), hull_of_rings=False)),
         Part(
             "neck",
-            _lathe(
-                (0, 0), neck * rx, neck * ry, [(1.0, z_neck - 0.01 * h), (0.92, z_caps + 0.01 * h)]
+            lathe(
+                [(1.0, z_neck - 0.01 * h), (0.92, z_caps + 0.01 * h)],
+                neck * rx,
+                neck * ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
             "capsule",
-            _lathe(
-                (0, 0), neck * rx, neck * ry, [(0.98, z_caps), (1.06, zt - 0.025 * h), (1.0, zt)]
+            lathe(
+                [(0.98, z_caps), (1.06, zt - 0.025 * h), (1.0, zt)],
+                neck * rx,
+                neck * ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -898,8 +865,12 @@ def spray_bottle(size, rng, style, support_heights):
         parts = [
             Part(
                 "body",
-                _lathe(
-                    (0, cy), rx, ry, [(0.94, z0), (1.0, z0 + 0.03 * h), (1.0, z_sh), (0.45, z_col)]
+                lathe(
+                    [(0.94, z0), (1.0, z0 + 0.03 * h), (1.0, z_sh), (0.45, z_col)],
+                    rx,
+                    ry,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -913,7 +884,9 @@ def spray_bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[outline, np.full(8, z_sh)],
-                            np.c_[_ellipse(0, cy, 0.45 * rx, 0.45 * ry), np.full(ROUND, z_col)],
+                            np.c_[
+                                _ellipse(0, cy, 0.45 * rx, 0.45 * ry), np.full(FINE_SEGMENTS, z_col)
+                            ],
                         ]
                     )
                 ),
@@ -923,7 +896,8 @@ def spray_bottle(size, rng, style, support_heights):
     z_head = z0 + 0.76 * h
     parts.append(
         Part(
-            "collar", _disc((0, cy), collar_r * rx, collar_r * ry, z_col - 0.01 * h, z_head, ROUND)
+            "collar",
+            _disc((0, cy), collar_r * rx, collar_r * ry, z_col - 0.01 * h, z_head, FINE_SEGMENTS),
         )
     )
     hw = 0.3 * sx
@@ -987,10 +961,7 @@ def soap_bottle(size, rng, style, support_heights):
         parts = [
             Part(
                 "body",
-                _lathe(
-                    (0, cy),
-                    rx,
-                    ry,
+                lathe(
                     [
                         (0.92, z0),
                         (1.0, z0 + 0.05 * h),
@@ -998,6 +969,10 @@ def soap_bottle(size, rng, style, support_heights):
                         (0.85, z_sh + 0.05 * h),
                         (0.35, z_col),
                     ],
+                    rx,
+                    ry,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -1011,7 +986,9 @@ def soap_bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[outline, np.full(8, z_sh)],
-                            np.c_[_ellipse(0, cy, 0.35 * rx, 0.35 * ry), np.full(ROUND, z_col)],
+                            np.c_[
+                                _ellipse(0, cy, 0.35 * rx, 0.35 * ry), np.full(FINE_SEGMENTS, z_col)
+                            ],
                         ]
                     )
                 ),
@@ -1027,19 +1004,27 @@ def soap_bottle(size, rng, style, support_heights):
                 (0, cy, (z_col + z_col_top) / 2 - 0.005 * h),
                 cr,
                 z_col_top - z_col + 0.01 * h,
-                ROUND,
+                FINE_SEGMENTS,
             ),
         ),
         Part(
             "stem",
             cylinder(
-                (0, cy, (z_col_top + z_head) / 2), 0.35 * cr, z_head - z_col_top + 0.01 * h, THIN
+                (0, cy, (z_col_top + z_head) / 2),
+                0.35 * cr,
+                z_head - z_col_top + 0.01 * h,
+                ROD_SEGMENTS,
             ),
         ),
         Part(
             "pump_head",
-            _lathe(
-                (0, cy), 1.1 * cr, 1.1 * cr, [(1.0, z_head), (1.0, zt - 0.02 * h), (0.7, zt)], ROUND
+            lathe(
+                [(1.0, z_head), (1.0, zt - 0.02 * h), (0.7, zt)],
+                1.1 * cr,
+                1.1 * cr,
+                FINE_SEGMENTS,
+                center=(0, cy),
+                hull_of_rings=False,
             ),
         ),
         Part(
@@ -1065,27 +1050,49 @@ def salt_shaker(size, rng, style, support_heights):
     z_cap = z0 + rng.uniform(0.66, 0.72) * h
     if style == 0:
         return [
-            Part("body", _lathe((0, 0), rx, ry, [(0.9, z0), (0.93, z0 + 0.03 * h), (0.93, z_cap)])),
             Part(
-                "cap",
-                _lathe(
-                    (0, 0),
+                "body",
+                lathe(
+                    [(0.9, z0), (0.93, z0 + 0.03 * h), (0.93, z_cap)],
                     rx,
                     ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
+            Part(
+                "cap",
+                lathe(
                     [
                         (1.0, z_cap - 0.02 * h),
                         (1.0, z_cap + 0.12 * h),
                         (0.85, zt - 0.08 * h),
                         (0.5, zt),
                     ],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             ),
         ]
     hexagon = _ellipse(0, 0, rx, ry, 6, np.pi / 6, 2 * np.pi + np.pi / 6)
     return [
         Part("body", prism(hexagon, z0, z_cap)),
-        Part("cap", _disc((0, 0), 0.82 * rx, 0.82 * ry, z_cap - 0.02 * h, zt - 0.04 * h, ROUND)),
-        Part("cap_top", _lathe((0, 0), 0.82 * rx, 0.82 * ry, [(1.0, zt - 0.045 * h), (0.85, zt)])),
+        Part(
+            "cap",
+            _disc((0, 0), 0.82 * rx, 0.82 * ry, z_cap - 0.02 * h, zt - 0.04 * h, FINE_SEGMENTS),
+        ),
+        Part(
+            "cap_top",
+            lathe(
+                [(1.0, zt - 0.045 * h), (0.85, zt)],
+                0.82 * rx,
+                0.82 * ry,
+                center=(0, 0),
+                hull_of_rings=False,
+            ),
+        ),
     ]
 
 
@@ -1099,33 +1106,50 @@ def pepper_shaker(size, rng, style, support_heights):
         waist = rng.uniform(0.5, 0.58)
         z1, z2, z3 = z0 + 0.1 * h, z0 + 0.45 * h, z0 + 0.76 * h
         return [
-            Part("base", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.82 * rx, 0.82 * ry), ROUND)),
+            Part(
+                "base",
+                frustum((0, 0, z0), z1 - z0, (rx, ry), (0.82 * rx, 0.82 * ry), FINE_SEGMENTS),
+            ),
             Part(
                 "body_lower",
                 frustum(
-                    (0, 0, z1), z2 - z1, (0.82 * rx, 0.82 * ry), (waist * rx, waist * ry), ROUND
+                    (0, 0, z1),
+                    z2 - z1,
+                    (0.82 * rx, 0.82 * ry),
+                    (waist * rx, waist * ry),
+                    FINE_SEGMENTS,
                 ),
             ),
             Part(
                 "body_upper",
                 frustum(
-                    (0, 0, z2), z3 - z2, (waist * rx, waist * ry), (0.85 * rx, 0.85 * ry), ROUND
+                    (0, 0, z2),
+                    z3 - z2,
+                    (waist * rx, waist * ry),
+                    (0.85 * rx, 0.85 * ry),
+                    FINE_SEGMENTS,
                 ),
             ),
             Part(
                 "crown",
-                _lathe((0, 0), rx, ry, [(0.85, z3), (0.75, z0 + 0.86 * h), (0.3, z0 + 0.92 * h)]),
+                lathe(
+                    [(0.85, z3), (0.75, z0 + 0.86 * h), (0.3, z0 + 0.92 * h)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
             ),
-            Part("knob", ellipsoid((0, 0, z0 + 0.95 * h), (0.2 * rx, 0.2 * ry, 0.05 * h), 6, THIN)),
+            Part(
+                "knob",
+                ellipsoid((0, 0, z0 + 0.95 * h), (0.2 * rx, 0.2 * ry, 0.05 * h), 6, ROD_SEGMENTS),
+            ),
         ]
     z_b = z0 + rng.uniform(0.66, 0.7) * h
     return [
         Part(
             "body",
-            _lathe(
-                (0, 0),
-                rx,
-                ry,
+            lathe(
                 [
                     (0.6, z0),
                     (0.9, z0 + 0.12 * h),
@@ -1133,11 +1157,21 @@ def pepper_shaker(size, rng, style, support_heights):
                     (0.88, z0 + 0.56 * h),
                     (0.55, z_b),
                 ],
+                rx,
+                ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
             "cap",
-            _lathe((0, 0), rx, ry, [(0.58, z_b - 0.02 * h), (0.58, z_b + 0.08 * h), (0.12, zt)]),
+            lathe(
+                [(0.58, z_b - 0.02 * h), (0.58, z_b + 0.08 * h), (0.12, zt)],
+                rx,
+                ry,
+                center=(0, 0),
+                hull_of_rings=False,
+            ),
         ),
     ]
 
@@ -1188,7 +1222,7 @@ def _fork(w, length, t, rng, style):
     parts += [
         Part(
             "head",
-            _slab(
+            _extruded_hull(
                 [(-w / 2, y_tines), (w / 2, y_tines), (neck_w / 2, y_head), (-neck_w / 2, y_head)],
                 z0,
                 z0 + plate_t,
@@ -1243,7 +1277,7 @@ def _knife(w, length, t, rng, style, butter):
         blade = [(-w / 2, yb), (w / 2, yb), *tip.tolist()]
         handle_w = 0.75 * w
         hx = 0.0
-    parts = [Part("blade", _slab(blade, bz0, bz1))]
+    parts = [Part("blade", _extruded_hull(blade, bz0, bz1))]
     ht = t if not butter else max(0.5 * t, 2 * blade_t)
     hz = (-t / 2, -t / 2 + ht) if butter else (-t / 2, t / 2)
     round_end = butter or style == 0
@@ -1260,7 +1294,9 @@ def _knife(w, length, t, rng, style, butter):
         parts.append(
             Part(
                 "handle_end",
-                _slab(_ellipse(0, y0 + 0.6 * w, w / 2 * 1.0, 0.6 * w, 12), hz[0], hz[1] + 0.3 * ht),
+                _extruded_hull(
+                    _ellipse(0, y0 + 0.6 * w, w / 2 * 1.0, 0.6 * w, 12), hz[0], hz[1] + 0.3 * ht
+                ),
             )
         )
     if not butter:
@@ -1300,8 +1336,12 @@ def _spoon(w, length, t, rng, style):
         bowl_len = min(1.15 * w, rng.uniform(0.24, 0.28) * length)
     by = yt - bowl_len / 2
     depth = rng.uniform(0.55, 0.65) * t
-    bowl = _lathe(
-        (0, by), w / 2, bowl_len / 2, [(0.45, z0), (0.8, z0 + 0.45 * depth), (1.0, z0 + depth)]
+    bowl = lathe(
+        [(0.45, z0), (0.8, z0 + 0.45 * depth), (1.0, z0 + depth)],
+        w / 2,
+        bowl_len / 2,
+        center=(0, by),
+        hull_of_rings=False,
     )
     neck_w = 0.18 * w
     y_bowl = by - 0.42 * bowl_len
@@ -1349,7 +1389,7 @@ def _spatula(w, length, t, rng, style):
         parts.append(
             Part(
                 "blade_back",
-                _slab(
+                _extruded_hull(
                     [
                         (-0.85 * w / 2, yb),
                         (0.85 * w / 2, yb),
@@ -1381,7 +1421,7 @@ def _spatula(w, length, t, rng, style):
             -w / 2, w / 2, yb + 0.2 * blade_len, yt, (0.25 * w, 0.25 * w, 0.0, 0.0)
         )
         outline = np.vstack([outline, [(-0.3 * w, yb), (0.3 * w, yb)]])
-        parts.append(Part("blade", _slab(outline, z0, z0 + blade_t)))
+        parts.append(Part("blade", _extruded_hull(outline, z0, z0 + blade_t)))
     neck_w = 0.16 * w
     y_neck = yb - 0.12 * length
     handle_t = float(np.clip(0.35 * t, 0.002, 0.012))
@@ -1539,7 +1579,13 @@ def microwave(size, rng, style, support_heights):
             parts.append(
                 Part(
                     f"dial_{k}",
-                    _rod((px0 + pw / 2, yf, z), (px0 + pw / 2, sy / 2, z), rd, 0.9 * rd, ROUND),
+                    _rod(
+                        (px0 + pw / 2, yf, z),
+                        (px0 + pw / 2, sy / 2, z),
+                        rd,
+                        0.9 * rd,
+                        FINE_SEGMENTS,
+                    ),
                 )
             )
         parts.append(
@@ -1668,14 +1714,11 @@ def coffee_machine(size, rng, style, support_heights):
         parts += [
             Part(
                 "filter_basket",
-                frustum((0, cy, zf), zt - head_h - zf + 0.001, 0.75 * rc, 1.05 * rc, ROUND),
+                frustum((0, cy, zf), zt - head_h - zf + 0.001, 0.75 * rc, 1.05 * rc, FINE_SEGMENTS),
             ),
             Part(
                 "carafe",
-                _lathe(
-                    (0, cy),
-                    rc,
-                    rc,
+                lathe(
                     [
                         (0.92, zc0),
                         (1.0, zc0 + 0.12 * hc),
@@ -1683,6 +1726,10 @@ def coffee_machine(size, rng, style, support_heights):
                         (0.78, zc0 + 0.72 * hc),
                         (0.5, zc1),
                     ],
+                    rc,
+                    rc,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             ),
         ]
@@ -1729,8 +1776,8 @@ def coffee_machine(size, rng, style, support_heights):
     zg = zt - over_h
     pf_z = zg - 0.07 * h
     parts += [
-        Part("group_head", cylinder((0, gy, zg - 0.03 * h + 0.001), gr, 0.06 * h, ROUND)),
-        Part("portafilter", cylinder((0, gy, pf_z), 1.05 * gr, 0.05 * h, ROUND)),
+        Part("group_head", cylinder((0, gy, zg - 0.03 * h + 0.001), gr, 0.06 * h, FINE_SEGMENTS)),
+        Part("portafilter", cylinder((0, gy, pf_z), 1.05 * gr, 0.05 * h, FINE_SEGMENTS)),
         Part(
             "portafilter_handle",
             _beam(
@@ -1743,8 +1790,12 @@ def coffee_machine(size, rng, style, support_heights):
         ),
         Part(
             "cup",
-            _lathe(
-                (0, gy), 0.7 * gr, 0.7 * gr, [(0.7, z0 + tray_h), (1.0, z0 + tray_h + 0.14 * h)]
+            lathe(
+                [(0.7, z0 + tray_h), (1.0, z0 + tray_h + 0.14 * h)],
+                0.7 * gr,
+                0.7 * gr,
+                center=(0, gy),
+                hull_of_rings=False,
             ),
         ),
         Part(
@@ -1762,7 +1813,7 @@ def coffee_machine(size, rng, style, support_heights):
                 (-0.28 * sx, yb + over_d + 0.01 * sy, zt - 0.45 * over_h),
                 0.08 * sx,
                 0.08 * sx,
-                ROUND,
+                FINE_SEGMENTS,
             ),
         ),
     ]
@@ -1788,7 +1839,7 @@ def apple(size, rng, style, support_heights):
     stem_r = float(np.clip(0.05 * min(rx, ry), 0.0015, 0.006))
     lean = rng.uniform(0.03, 0.08) * rx
     parts = [
-        Part("body", _lathe((0, 0), rx, ry, profile)),
+        Part("body", lathe(profile, rx, ry, center=(0, 0), hull_of_rings=False)),
         Part("stem", _rod((0, 0, zb - 0.04 * h), (lean, 0, zt), stem_r, 0.8 * stem_r, 6)),
     ]
     if style == 1:
@@ -1807,10 +1858,7 @@ def tomato(size, rng, style, support_heights):
         parts = [
             Part(
                 "body",
-                _lathe(
-                    (0, 0),
-                    rx,
-                    ry,
+                lathe(
                     [
                         (0.45, z0),
                         (0.82, z0 + 0.12 * h),
@@ -1818,6 +1866,10 @@ def tomato(size, rng, style, support_heights):
                         (0.88, z0 + 0.75 * h),
                         (0.45, zb),
                     ],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -1825,11 +1877,12 @@ def tomato(size, rng, style, support_heights):
         parts = [
             Part(
                 "core",
-                _lathe(
-                    (0, 0),
+                lathe(
+                    [(0.5, z0 + 0.03 * h), (1.0, z0 + 0.45 * h), (0.5, zb)],
                     0.8 * rx,
                     0.8 * ry,
-                    [(0.5, z0 + 0.03 * h), (1.0, z0 + 0.45 * h), (0.5, zb)],
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -1907,7 +1960,12 @@ def egg(size, rng, style, support_heights):
     r = np.sqrt(np.clip(1 - u**2, 0, None)) * (1 - k * u)
     r /= r.max()
     r[0] = r[-1] = 0.0
-    return [Part("shell", _lathe((0, 0), rx, ry, np.c_[r, z0 + (u + 1) / 2 * h]))]
+    return [
+        Part(
+            "shell",
+            lathe(np.c_[r, z0 + (u + 1) / 2 * h], rx, ry, center=(0, 0), hull_of_rings=False),
+        )
+    ]
 
 
 @register("lettuce", variants=2)
@@ -1988,10 +2046,7 @@ def bread(size, rng, style, support_heights):
     parts = [
         Part(
             "loaf",
-            _lathe(
-                (0, 0),
-                rx,
-                ry,
+            lathe(
                 [
                     (0.84, z0),
                     (0.97, z0 + 0.16 * h),
@@ -2000,6 +2055,10 @@ def bread(size, rng, style, support_heights):
                     (0.55, z0 + 0.9 * h),
                     (0.18, zt),
                 ],
+                rx,
+                ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         )
     ]
@@ -2135,11 +2194,12 @@ def soap_bar(size, rng, style, support_heights):
     return [
         Part(
             "bar",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(0.82, z0), (1.0, z0 + 0.3 * h), (0.9, z0 + 0.75 * h), (0.55, zt)],
                 sx / 2,
                 sy / 2,
-                [(0.82, z0), (1.0, z0 + 0.3 * h), (0.9, z0 + 0.75 * h), (0.55, zt)],
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         )
     ]
@@ -2176,20 +2236,41 @@ def scrub_brush(size, rng, style, support_heights):
             zh = z0 + rng.uniform(0.34, 0.4) * h
             return [
                 Part(
-                    "holder", _lathe((0, 0), rx, ry, [(0.85, z0), (1.0, z0 + 0.08 * h), (0.92, zh)])
+                    "holder",
+                    lathe(
+                        [(0.85, z0), (1.0, z0 + 0.08 * h), (0.92, zh)],
+                        rx,
+                        ry,
+                        center=(0, 0),
+                        hull_of_rings=False,
+                    ),
                 ),
                 Part(
                     "holder_rim",
-                    _disc((0, 0), 0.75 * rx, 0.75 * ry, zh - 0.01 * h, zh + 0.015 * h, ROUND),
+                    _disc(
+                        (0, 0), 0.75 * rx, 0.75 * ry, zh - 0.01 * h, zh + 0.015 * h, FINE_SEGMENTS
+                    ),
                 ),
                 Part("handle", _rod((0, 0, zh), (0, 0, zt - 0.06 * h), hr, 0.9 * hr)),
-                Part("knob", ellipsoid((0, 0, zt - 0.06 * h), (2 * hr, 2 * hr, 0.06 * h), 6, THIN)),
+                Part(
+                    "knob",
+                    ellipsoid((0, 0, zt - 0.06 * h), (2 * hr, 2 * hr, 0.06 * h), 6, ROD_SEGMENTS),
+                ),
             ]
         base_h = 0.04 * h
         zb = z0 + base_h
         head_h = 0.2 * h
         return [
-            Part("stand", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.01 * h), (0.9, zb)])),
+            Part(
+                "stand",
+                lathe(
+                    [(1.0, z0), (1.0, zb - 0.01 * h), (0.9, zb)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
             Part(
                 "head",
                 ellipsoid((0, 0, zb + head_h / 2), (0.62 * rx, 0.62 * ry, head_h / 2), 6, 12),
@@ -2199,7 +2280,10 @@ def scrub_brush(size, rng, style, support_heights):
                 _rod((0, 0, zb + 0.8 * head_h), (0, 0, zb + head_h + 0.06 * h), 1.6 * hr, 1.2 * hr),
             ),
             Part("handle", _rod((0, 0, zb + head_h), (0, 0, zt - 0.03 * h), hr, 0.9 * hr)),
-            Part("knob", ellipsoid((0, 0, zt - 0.03 * h), (1.6 * hr, 1.6 * hr, 0.03 * h), 4, THIN)),
+            Part(
+                "knob",
+                ellipsoid((0, 0, zt - 0.03 * h), (1.6 * hr, 1.6 * hr, 0.03 * h), 4, ROD_SEGMENTS),
+            ),
         ]
     bristle_h = 0.3 * h
     zb = z0 + bristle_h
@@ -2224,11 +2308,12 @@ def scrub_brush(size, rng, style, support_heights):
         parts.append(
             Part(
                 "knob",
-                _lathe(
-                    (0, 0),
-                    kr,
-                    kr,
+                lathe(
                     [(0.6, zb + block_h - 0.01 * h), (1.0, zt - 0.15 * h), (0.7, zt)],
+                    kr,
+                    kr,
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             )
         )
@@ -2267,7 +2352,9 @@ def plunger(size, rng, style, support_heights):
         parts.append(
             Part(
                 "flange",
-                frustum((0, 0, z0), flange, (0.5 * rx, 0.5 * ry), (0.62 * rx, 0.62 * ry), ROUND),
+                frustum(
+                    (0, 0, z0), flange, (0.5 * rx, 0.5 * ry), (0.62 * rx, 0.62 * ry), FINE_SEGMENTS
+                ),
             )
         )
         zc = z0 + 0.8 * flange
@@ -2275,22 +2362,24 @@ def plunger(size, rng, style, support_heights):
     parts += [
         Part(
             "cup",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(1.0, zc), (0.96, zc + 0.3 * hc), (0.78, zc + 0.7 * hc), (0.3, zc + hc)],
                 rx,
                 ry,
-                [(1.0, zc), (0.96, zc + 0.3 * hc), (0.78, zc + 0.7 * hc), (0.3, zc + hc)],
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part("handle", _rod((0, 0, zc + 0.9 * hc), (0, 0, zt - 0.03 * h), hr, hr)),
         Part(
             "handle_end",
-            _lathe(
-                (0, 0),
-                1.25 * hr,
-                1.25 * hr,
+            lathe(
                 [(1.0, zt - 0.04 * h), (1.0, zt - 0.01 * h), (0.6, zt)],
-                THIN,
+                1.25 * hr,
+                1.25 * hr,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -2306,29 +2395,43 @@ def candle(size, rng, style, support_heights):
         zb = zt - rng.uniform(0.06, 0.1) * h
         wr = float(np.clip(0.05 * min(rx, ry), 0.0008, 0.003))
         return [
-            Part("body", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.02 * h), (0.9, zb)])),
+            Part(
+                "body",
+                lathe(
+                    [(1.0, z0), (1.0, zb - 0.02 * h), (0.9, zb)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
             Part("wick", _rod((0, 0, zb - 0.005 * h), (0.02 * rx, 0, zt), wr, 0.8 * wr, 6)),
         ]
     z1, z2, z3 = z0 + 0.04 * h, z0 + 0.2 * h, z0 + 0.26 * h
     cr = 0.24
     zc = zt - rng.uniform(0.13, 0.16) * h
     return [
-        Part("dish", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.9 * rx, 0.9 * ry), ROUND)),
+        Part("dish", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.9 * rx, 0.9 * ry), FINE_SEGMENTS)),
         Part("stem", _rod((0, 0, z1 - 0.001), (0, 0, z2), 0.12 * min(rx, ry), 0.1 * min(rx, ry))),
         Part(
             "socket",
             frustum(
-                (0, 0, z2 - 0.001), z3 - z2, (0.2 * rx, 0.2 * ry), (0.34 * rx, 0.34 * ry), ROUND
+                (0, 0, z2 - 0.001),
+                z3 - z2,
+                (0.2 * rx, 0.2 * ry),
+                (0.34 * rx, 0.34 * ry),
+                FINE_SEGMENTS,
             ),
         ),
         Part(
             "taper",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(1.0, z3 - 0.01 * h), (0.85, zc - 0.02 * h), (0.5, zc)],
                 cr * rx,
                 cr * ry,
-                [(1.0, z3 - 0.01 * h), (0.85, zc - 0.02 * h), (0.5, zc)],
-                THIN,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
@@ -2343,12 +2446,13 @@ def candle(size, rng, style, support_heights):
         ),
         Part(
             "flame",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(0.0, zc + 0.02 * h), (0.8, zc + 0.05 * h), (1.0, zc + 0.07 * h), (0.0, zt)],
                 0.14 * rx,
                 0.14 * ry,
-                [(0.0, zc + 0.02 * h), (0.8, zc + 0.05 * h), (1.0, zc + 0.07 * h), (0.0, zt)],
-                THIN,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
