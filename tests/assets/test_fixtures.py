@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
@@ -136,21 +134,6 @@ def test_deterministic_and_styles_differ(cat):
                 meshes[i].vertices, meshes[j].vertices
             )
             assert not same, f"{cat}: styles {i} and {j} build the same mesh"
-
-
-def test_generation_time(capsys):
-    """Median build time per category (reported, not asserted: machines differ)."""
-    lines = []
-    for cat in CATEGORIES:
-        times = []
-        for k in range(5):
-            for style in range(generators()[cat].variants):
-                t = time.perf_counter()
-                make(cat, SIZES[cat][0], style, seed=k)
-                times.append(time.perf_counter() - t)
-        lines.append(f"{cat:22s} {1e3 * float(np.median(times)):6.2f} ms")
-    with capsys.disabled():
-        print("\nmedian build time\n" + "\n".join(lines))
 
 
 # -- sinks, toilets, tubs, showers ---------------------------------------------------------

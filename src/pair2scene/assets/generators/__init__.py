@@ -1,7 +1,10 @@
 """Generator families; importing this package registers every generator."""
 
 from pair2scene.assets.generators import (  # noqa: F401
+    appliances,
+    beds,
     fixtures,
+    food,
     household,
     seating,
     storage,

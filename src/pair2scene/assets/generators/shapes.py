@@ -15,6 +15,7 @@ import numpy as np
 
 from pair2scene.assets.mesh import Mesh, Part, box, box_between, cylinder, frustum, hull, prism
 from pair2scene.assets.registry import GeneratorFn
+from pair2scene.scene.geometry import rot_z
 
 # -- segment counts -------------------------------------------------------------------
 ROUND_SEGMENTS = 12
@@ -330,3 +331,138 @@ def min_design_extent(extent: float) -> Callable[[GeneratorFn], GeneratorFn]:
         return wrapped
 
     return deco
+
+
+# -- small-object building blocks (tableware, appliances, food) ---------------------------
+def beam(
+    p0: Sequence[float],
+    p1: Sequence[float],
+    width: float,
+    thickness: float,
+    side: Sequence[float] = (0.0, 1.0, 0.0),
+) -> Mesh:
+    """Box from point p0 (3,) to p1 (3,): ``width`` along ``side`` (3,) (made orthogonal
+    to the beam), ``thickness`` across both."""
+    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    u = p1 - p0
+    length = float(np.linalg.norm(u))
+    u /= length
+    s = np.asarray(side, dtype=float)
+    s = s - (s @ u) * u
+    s /= np.linalg.norm(s)
+    rot = np.column_stack([u, s, np.cross(u, s)])
+    return box((p0 + p1) / 2, (length, width, thickness), rotation=rot)
+
+
+def rounded_outline(
+    x0: float,
+    x1: float,
+    y0: float,
+    y1: float,
+    radii: Sequence[float] | float,
+    corner_segments: int = 4,
+) -> np.ndarray:
+    """(N, 2) counter-clockwise convex outline of a rectangle with rounded corners.
+
+    Unlike :func:`rounded_rect` (one radius, furniture) each corner has its own radius and
+    a repeated point where two arcs meet is dropped. radii : one radius or four, for
+    corners (x1, y0), (x1, y1), (x0, y1), (x0, y0); 0 keeps a corner sharp."""
+    r = np.broadcast_to(np.asarray(radii, dtype=float), (4,))
+    lim = 0.5 * min(x1 - x0, y1 - y0)
+    corners = ((x1, y0, -np.pi / 2), (x1, y1, 0.0), (x0, y1, np.pi / 2), (x0, y0, np.pi))
+    pts = []
+    for (cx, cy, start), rad in zip(corners, r):
+        rad = min(rad, lim)
+        sx = -1.0 if cx == x1 else 1.0
+        sy = -1.0 if cy == y1 else 1.0
+        if rad <= 0.0:
+            pts.append((cx, cy))
+            continue
+        ox, oy = cx + sx * rad, cy + sy * rad
+        for t in np.linspace(start, start + np.pi / 2, corner_segments + 1):
+            pts.append((ox + rad * np.cos(t), oy + rad * np.sin(t)))
+    p = np.array(pts)
+    # arcs meeting on a side shorter than two radii share a point: drop the repeat
+    keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > 1e-9
+    return p[keep]
+
+
+def ellipse_arc(
+    cx: float,
+    cy: float,
+    rx: float,
+    ry: float,
+    n: int = FINE_SEGMENTS,
+    a0: float = 0.0,
+    a1: float = 2.0 * np.pi,
+    endpoint: bool = False,
+) -> np.ndarray:
+    """(n, 2) points on an ellipse arc from angle a0 to a1."""
+    a = np.linspace(a0, a1, n, endpoint=endpoint)
+    return np.stack([cx + rx * np.cos(a), cy + ry * np.sin(a)], axis=1)
+
+
+def rotate_parts(parts: list[Part], rotation: np.ndarray) -> list[Part]:
+    return [Part(p.name, p.mesh.transformed(rotation)) for p in parts]
+
+
+def in_long_frame(
+    size: np.ndarray, build: Callable[[float, float, float, bool], list[Part]]
+) -> list[Part]:
+    """Call ``build(length, width, height, turned)`` with the length along the box's longer
+    horizontal axis (built along x); ``turned`` is True when it is turned onto y (the
+    build's +x then ends up at +y, so a feature at +x faces the front)."""
+    sx, sy, sz = (float(v) for v in size)
+    if sx >= sy:
+        return build(sx, sy, sz, False)
+    return rotate_parts(build(sy, sx, sz, True), rot_z(np.pi / 2))
+
+
+def box_handle(
+    x_in: float,
+    x_out: float,
+    z_lo: float,
+    z_hi: float,
+    width: float,
+    bar: float,
+    rounded: bool,
+    y: float = 0.0,
+    prefix: str = "handle",
+) -> list[Part]:
+    """A handle (a mug's, a carafe's) in the xz plane at ``y``, from the body (x_in) out to
+    x_out, made of boxes: top arm, grip, bottom arm (and two chamfer boxes when ``rounded``)."""
+    parts = _handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded)
+    return [
+        Part(p.name.replace("handle", prefix, 1), p.mesh.transformed(None, (0, y, 0)))
+        for p in parts
+    ]
+
+
+def _handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded):
+    """The boxes of ``box_handle`` at y = 0."""
+    hw = width / 2
+    if not rounded:
+        return [
+            Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out, hw, z_hi))),
+            Part("handle_grip", box_between((x_out - bar, -hw, z_lo), (x_out, hw, z_hi))),
+            Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out, hw, z_lo + bar))),
+        ]
+    ch = 0.45 * min(x_out - x_in, (z_hi - z_lo) / 2)
+    xm = x_out - bar / 2
+    return [
+        Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out - ch, hw, z_hi))),
+        Part(
+            "handle_corner_top",
+            beam(
+                (x_out - ch - bar / 4, 0, z_hi - bar / 2), (xm, 0, z_hi - ch + bar / 4), width, bar
+            ),
+        ),
+        Part("handle_grip", box_between((x_out - bar, -hw, z_lo + ch), (x_out, hw, z_hi - ch))),
+        Part(
+            "handle_corner_bottom",
+            beam(
+                (xm, 0, z_lo + ch - bar / 4), (x_out - ch - bar / 4, 0, z_lo + bar / 2), width, bar
+            ),
+        ),
+        Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out - ch, hw, z_lo + bar))),
+    ]
