@@ -6,6 +6,7 @@ from pair2scene.assets.generators import (  # noqa: F401
     fixtures,
     food,
     household,
+    lighting,
     seating,
     storage,
     tables,

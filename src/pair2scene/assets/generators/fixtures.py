@@ -1,9 +1,9 @@
-"""Fixtures, lamps, wall objects and plants.
+"""Fixtures, wall objects and plants.
 
 Bathroom and kitchen fixtures (sinks, toilets, bathtubs, showers, faucets,
-stoves and their knobs), lamps (ceiling, floor, wall), wall objects
-(paintings, mirrors, curtains, blinds, towel and toilet-paper holders), house
-plants and vacuum cleaners.
+stoves and their knobs), wall objects (paintings, mirrors, curtains, blinds,
+towel and toilet-paper holders), house plants and vacuum cleaners. Lamps are in
+``lighting.py``.
 
 Every generator follows the contract of :mod:`pair2scene.assets.registry`:
 convex parts inside [-size/2, size/2], +z up, +y front, +x right. Wall
@@ -23,7 +23,9 @@ from pair2scene.assets.generators.shapes import (
     FINE_SEGMENTS,
     ROD_SEGMENTS,
     ROUND_SEGMENTS,
+    bar,
     clip,
+    jitter,
     lathe,
 )
 from pair2scene.assets.mesh import (
@@ -35,7 +37,6 @@ from pair2scene.assets.mesh import (
     ellipsoid,
     frustum,
     hull,
-    prism,
 )
 from pair2scene.assets.registry import register
 
@@ -75,44 +76,6 @@ _HEX_FACES = box((0.0, 0.0, 0.0), (2.0, 2.0, 2.0)).faces
 
 
 # -- helpers ------------------------------------------------------------------------
-def _jitter(rng: np.random.Generator, amount: float) -> float:
-    """A factor drawn uniformly from [1 - amount, 1 + amount]."""
-    return 1.0 + float(rng.uniform(-amount, amount))
-
-
-def _axis_rotation(direction: np.ndarray) -> np.ndarray:
-    """(3, 3) right-handed rotation whose third column is the unit ``direction`` (3,)."""
-    d = direction / np.linalg.norm(direction)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(helper, d)
-    u /= np.linalg.norm(u)
-    return np.stack([u, np.cross(d, u), d], axis=1)
-
-
-def _rod(
-    p0: Sequence[float],
-    p1: Sequence[float],
-    radius: float,
-    segments: int = ROD_SEGMENTS,
-    extend0: float = 0.0,
-    extend1: float = 0.0,
-) -> Mesh:
-    """Round bar from p0 (3,) to p1 (3,), lengthened past p0 / p1 by ``extend0`` /
-    ``extend1`` (so that bars meeting at an angle leave no gap)."""
-    a, b = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    d = b - a
-    length = float(np.linalg.norm(d))
-    u = d / length
-    return frustum(
-        a - u * extend0,
-        length + extend0 + extend1,
-        radius,
-        radius,
-        segments,
-        rotation=_axis_rotation(u),
-    )
-
-
 def _path(
     points: Sequence[Sequence[float]],
     radius: float,
@@ -127,7 +90,7 @@ def _path(
     lap = 0.5 * radius
     n = len(pts) - 1
     return [
-        _rod(
+        bar(
             pts[i],
             pts[i + 1],
             radius,
@@ -283,11 +246,11 @@ def sink(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     tall = sz > SINK_TALL_M
-    faucet_h = min(0.2, 0.3 * sz) * _jitter(rng, 0.1)
+    faucet_h = min(0.2, 0.3 * sz) * jitter(rng, 0.1)
     rim = z1 - faucet_h
     depth = clip(0.18 * sz, 0.12, 0.22) if tall else rim - z0
     bottom = rim - depth
-    deck = clip(0.22 * sy, 0.05, 0.15, 0.3 * sy) * _jitter(rng, 0.1)
+    deck = clip(0.22 * sy, 0.05, 0.15, 0.3 * sy) * jitter(rng, 0.1)
     wall = clip(0.06 * min(sx, sy), 0.008, 0.03)
     floor_t = min(1.5 * wall, 0.3 * depth)
     tube = clip(0.08 * deck, 0.005, 0.012)
@@ -407,7 +370,7 @@ def sink_basin(
     """Sink basin alone: an open hollow; style 0 rectangular, style 1 an oval bowl."""
     sx, sy, sz = size
     lo, hi = -size / 2, size / 2
-    wall = clip(0.06 * min(sx, sy), 0.006, 0.025) * _jitter(rng, 0.1)
+    wall = clip(0.06 * min(sx, sy), 0.006, 0.025) * jitter(rng, 0.1)
     floor_t = min(1.5 * wall, 0.25 * sz)
     if style == 0:
         return _hollow_box(lo, hi, wall, floor_t, "basin")
@@ -427,11 +390,11 @@ def toilet(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    seat_top = z0 + 0.42 * sz * _jitter(rng, 0.04)
+    seat_top = z0 + 0.42 * sz * jitter(rng, 0.04)
     st = clip(0.04 * sz, 0.012, 0.04, 0.05 * sz)  # seat (lid closed) thickness
     seat_bot = seat_top - st
-    td = clip(0.22 * sy, 0.08, 0.25, 0.3 * sy) * _jitter(rng, 0.08)  # tank depth
-    rx = min(0.36 * sx * _jitter(rng, 0.05), sx / 2)
+    td = clip(0.22 * sy, 0.08, 0.25, 0.3 * sy) * jitter(rng, 0.08)  # tank depth
+    rx = min(0.36 * sx * jitter(rng, 0.05), sx / 2)
     ry = (y1 - (y0 + 0.9 * td)) / 2
     yc = y1 - ry
     r = np.array([rx, ry])
@@ -467,7 +430,7 @@ def toilet(
             ),
         ]
     else:
-        zb = seat_bot - 0.5 * (seat_bot - z0) * _jitter(rng, 0.1)
+        zb = seat_bot - 0.5 * (seat_bot - z0) * jitter(rng, 0.1)
         bowl_factors = (0.55, 0.88, 0.97)
         plate_z = z0 + 0.78 * sz
         plate = (
@@ -501,17 +464,17 @@ def bathtub(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     if style == 0:
-        wall = clip(0.07 * min(sx, sy), 0.04, 0.12) * _jitter(rng, 0.1)
+        wall = clip(0.07 * min(sx, sy), 0.04, 0.12) * jitter(rng, 0.1)
         floor_t = clip(0.15 * sz, 0.04, 0.1, 0.3 * sz)
         parts = _hollow_box((x0, y0, z0), (x1, y1, z1), wall, floor_t, "tub")
         r = clip(0.03 * sz, 0.01, 0.02)
         zs = z1 - clip(0.15 * sz, 0.05, 0.1)
         reach = min(0.12, 0.12 * sx)
         parts.append(
-            Part("spout", _rod((x0 + 0.5 * wall, 0.0, zs), (x0 + wall + reach, 0.0, zs), r))
+            Part("spout", bar((x0 + 0.5 * wall, 0.0, zs), (x0 + wall + reach, 0.0, zs), r))
         )
         return parts
-    foot_h = clip(0.12 * sz, 0.04, 0.12, 0.2 * sz) * _jitter(rng, 0.1)
+    foot_h = clip(0.12 * sz, 0.04, 0.12, 0.2 * sz) * jitter(rng, 0.1)
     wall = clip(0.05 * min(sx, sy), 0.02, 0.06)
     floor_t = clip(0.1 * sz, 0.03, 0.06, 0.2 * sz)
     r_top = np.array([sx / 2, sy / 2])
@@ -572,8 +535,8 @@ def _shower_head(
     mixer = (4 * pipe_r, 2.5 * pipe_r, 5 * pipe_r)
     return [
         Part("mixer", box((x, y_wall + mixer[1] / 2, z_low), mixer)),
-        Part("riser", _rod((x, yp, z_low), (x, yp, za), pipe_r, extend1=pipe_r)),
-        Part("arm", _rod((x, yp, za), (x, y_wall + reach, za), pipe_r)),
+        Part("riser", bar((x, yp, z_low), (x, yp, za), pipe_r, extend1=pipe_r)),
+        Part("arm", bar((x, yp, za), (x, y_wall + reach, za), pipe_r)),
         Part(
             "head",
             frustum(
@@ -592,7 +555,7 @@ def _shower_cubicle(size: np.ndarray, rng: np.random.Generator, style: int) -> l
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    tray_h = clip(0.04 * sz, 0.03, 0.1, 0.1 * sz) * _jitter(rng, 0.1)
+    tray_h = clip(0.04 * sz, 0.03, 0.1, 0.1 * sz) * jitter(rng, 0.1)
     zt = z0 + tray_h
     parts = [Part("tray", box_between((x0, y0, z0), (x1, y1, zt)))]
     if style == 0:
@@ -635,11 +598,11 @@ def _shower_cubicle(size: np.ndarray, rng: np.random.Generator, style: int) -> l
         parts += [
             Part(
                 "rod_front",
-                _rod((x0, y1 - cd / 2, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
+                bar((x0, y1 - cd / 2, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
             ),
             Part(
                 "rod_side",
-                _rod((x1 - cd / 2, y0, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
+                bar((x1 - cd / 2, y0, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
             ),
         ]
         cover = float(rng.uniform(0.55, 0.75)) * sx  # the curtain is drawn toward +x
@@ -699,7 +662,7 @@ def _shower_panel(size: np.ndarray, rng: np.random.Generator, style: int) -> lis
         end_r = min(2 * rr, pd / 2)
         end_t = min(0.008, 0.05 * sx)  # wall flange thickness
         parts += [
-            Part("rod", _rod((x0, ym, zr), (x1, ym, zr), rr)),
+            Part("rod", bar((x0, ym, zr), (x1, ym, zr), rr)),
             Part(
                 "rod_end_left",
                 cylinder((x0 + end_t / 2, ym, zr), end_r, end_t, ROD_SEGMENTS, _Z_TO_X),
@@ -711,7 +674,7 @@ def _shower_panel(size: np.ndarray, rng: np.random.Generator, style: int) -> lis
         ]
         parts += _named(
             "curtain",
-            _pleats(x0 + end_t, x1 - end_t, ym, pd, z0, zr - rr, 0.08 * _jitter(rng, 0.1), 20),
+            _pleats(x0 + end_t, x1 - end_t, ym, pd, z0, zr - rr, 0.08 * jitter(rng, 0.1), 20),
         )
     if has_head:
         head_r = min(0.08, 0.4 * (sy - pd))
@@ -736,17 +699,17 @@ def towel_holder(
     if style == 0 or sz < 0.5 * sx:
         double = style == 1
         n = int(np.clip(round(sz / TOWEL_RAIL_PITCH_M), 1, 4))
-        r = clip(0.25 * min(sy, sz / n), 0.003, 0.014) * _jitter(rng, 0.1)
+        r = clip(0.25 * min(sy, sz / n), 0.003, 0.014) * jitter(rng, 0.1)
         if double:
             r = min(r, (sy - pt) / 8)
         yr = y1 - r
         end = clip(0.1 * sx, 0.01, 0.08)
         zs = [0.0] if n == 1 else list(np.linspace(z0 + r, z1 - r, n))
-        parts = [Part(f"rail_{k}", _rod((x0, yr, z), (x1, yr, z), r)) for k, z in enumerate(zs)]
+        parts = [Part(f"rail_{k}", bar((x0, yr, z), (x1, yr, z), r)) for k, z in enumerate(zs)]
         if double:
             yb = yr - 3.5 * r
             parts += [
-                Part(f"rail_back_{k}", _rod((x0 + 0.5 * r, yb, z), (x1 - 0.5 * r, yb, z), r))
+                Part(f"rail_back_{k}", bar((x0 + 0.5 * r, yb, z), (x1 - 0.5 * r, yb, z), r))
                 for k, z in enumerate(zs)
             ]
         # wall plates and standoff arms at each end; a ladder's arms hold its top and bottom
@@ -760,12 +723,12 @@ def towel_holder(
                         cylinder((xs, y0 + pt / 2, z), min(pr, end), pt, ROD_SEGMENTS, _Z_TO_Y),
                     )
                 )
-                parts.append(Part(f"arm_{side}_{k}", _rod((xs, y0 + pt, z), (xs, yr, z), 0.8 * r)))
+                parts.append(Part(f"arm_{side}_{k}", bar((xs, y0 + pt, z), (xs, yr, z), 0.8 * r)))
             if n > 1:
                 parts.append(
                     Part(
                         f"post_{side}",
-                        _rod((xs, yr, zs[0]), (xs, yr, zs[-1]), r, extend0=r, extend1=r),
+                        bar((xs, yr, zs[0]), (xs, yr, zs[-1]), r, extend0=r, extend1=r),
                     )
                 )
         return parts
@@ -779,7 +742,7 @@ def towel_holder(
     ring = np.stack([rx * np.cos(a), np.full_like(a, y_ring), zc + rz * np.sin(a)], 1)
     parts = [
         Part("rosette", cylinder((0.0, y0 + pt / 2, z_arm), rr, pt, ROUND_SEGMENTS, _Z_TO_Y)),
-        Part("arm", _rod((0.0, y0 + pt, z_arm), (0.0, y_ring, z_arm), 1.3 * tube)),
+        Part("arm", bar((0.0, y0 + pt, z_arm), (0.0, y_ring, z_arm), 1.3 * tube)),
     ]
     return parts + _named("ring", _path(ring, tube, closed=True))
 
@@ -794,7 +757,7 @@ def toilet_paper_hanger(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     pt = clip(0.12 * sy, 0.004, 0.012)
-    sr = clip(0.12 * min(sy, sz), 0.004, 0.011) * _jitter(rng, 0.1)  # spindle radius
+    sr = clip(0.12 * min(sy, sz), 0.004, 0.011) * jitter(rng, 0.1)  # spindle radius
     if style == 0:
         ct = clip(0.06 * min(sx, sz), 0.003, 0.008)  # hood thickness
         zc = z0 + 0.35 * sz  # axis of the quarter-round hood
@@ -815,7 +778,7 @@ def toilet_paper_hanger(
             pts += [(xe, yw, zc), (xe + ct, yw, zc)]
             parts.append(Part(name, hull(pts)))
         ys, zs = yw + 0.5 * ry, zc + 0.2 * rz
-        parts.append(Part("spindle", _rod((x0 + ct, ys, zs), (x1 - ct, ys, zs), sr)))
+        parts.append(Part("spindle", bar((x0 + ct, ys, zs), (x1 - ct, ys, zs), sr)))
         return parts
     pw = clip(0.22 * sx, 0.02, 0.06)
     zc = 0.0
@@ -823,9 +786,9 @@ def toilet_paper_hanger(
     xa = x0 + pw / 2
     return [
         Part("wall_plate", box_between((x0, y0, z0), (x0 + pw, y0 + pt, z1))),
-        Part("arm", _rod((xa, y0 + pt, zc), (xa, ys, zc), 1.2 * sr, extend1=sr)),
-        Part("spindle", _rod((xa, ys, zc), (x1 - sr, ys, zc), sr)),
-        Part("stop", _rod((x1 - sr, ys, zc - sr), (x1 - sr, ys, zc + 2.5 * sr), sr)),
+        Part("arm", bar((xa, y0 + pt, zc), (xa, ys, zc), 1.2 * sr, extend1=sr)),
+        Part("spindle", bar((xa, ys, zc), (x1 - sr, ys, zc), sr)),
+        Part("stop", bar((x1 - sr, ys, zc - sr), (x1 - sr, ys, zc + 2.5 * sr), sr)),
     ]
 
 
@@ -838,7 +801,7 @@ def faucet(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    tube = clip(0.05 * min(sx * 2, sy, sz), 0.004, 0.014) * _jitter(rng, 0.1)
+    tube = clip(0.05 * min(sx * 2, sy, sz), 0.004, 0.014) * jitter(rng, 0.1)
     plate_h = clip(0.06 * sz, 0.004, 0.015)
     kr = min(1.6 * tube, 0.25 * sx)  # handle column radius
     if style == 0:
@@ -867,7 +830,7 @@ def faucet(
                 parts.append(
                     Part(
                         f"lever_{name}",
-                        _rod((hx, yb, hz + 0.1 * sz), (hx, yb + 3 * kr, hz + 0.14 * sz), 0.5 * kr),
+                        bar((hx, yb, hz + 0.1 * sz), (hx, yb + 3 * kr, hz + 0.14 * sz), 0.5 * kr),
                     )
                 )
         return parts
@@ -881,7 +844,7 @@ def faucet(
         Part("body", cylinder((0.0, yb, (z0 + body_top) / 2), br, body_top - z0, ROUND_SEGMENTS)),
         Part(
             "lever",
-            _rod(
+            bar(
                 (0.0, yb, body_top),
                 (0.0, yb + 0.35 * (y1 - yb), z1 - lever_r),
                 lever_r,
@@ -1019,7 +982,7 @@ def _stove_body(
             ),
             Part(
                 "oven_handle",
-                _rod((x0 + 0.12 * sx, y1 - hr, hz), (x1 - 0.12 * sx, y1 - hr, hz), hr),
+                bar((x0 + 0.12 * sx, y1 - hr, hz), (x1 - 0.12 * sx, y1 - hr, hz), hr),
             ),
         ]
         for s, name in ((-1, "left"), (1, "right")):
@@ -1069,7 +1032,7 @@ def _single_burner(size: np.ndarray, rng: np.random.Generator, style: int) -> li
     z0, z1 = -sz / 2, sz / 2
     r = np.array([sx / 2, sy / 2])
     if style == 0:
-        g = 0.12 * min(sx, sy) / 2 * _jitter(rng, 0.1)
+        g = 0.12 * min(sx, sy) / 2 * jitter(rng, 0.1)
         return [
             Part("pan", cylinder((0.0, 0.0, z0 + 0.15 * sz), r, 0.3 * sz, ROUND_SEGMENTS)),
             Part("burner", cylinder((0.0, 0.0, z0 + 0.45 * sz), 0.5 * r, 0.3 * sz, ROUND_SEGMENTS)),
@@ -1105,7 +1068,7 @@ def stove_knob(
     r = np.array([w / 2, t / 2])
     z0 = -h / 2
     if style == 0:
-        base_h = 0.2 * h * _jitter(rng, 0.1)
+        base_h = 0.2 * h * jitter(rng, 0.1)
         fin = (0.9 * w, 0.22 * t, h - base_h)
         parts = [
             Part("base", cylinder((0.0, 0.0, z0 + base_h / 2), r, base_h, ROUND_SEGMENTS)),
@@ -1121,7 +1084,7 @@ def stove_knob(
             Part("grip", box((0.0, 0.0, z0 + base_h + fin[2] / 2), fin)),
         ]
     else:
-        skirt_h = 0.35 * h * _jitter(rng, 0.1)
+        skirt_h = 0.35 * h * jitter(rng, 0.1)
         mark_h = 0.08 * h  # the pointer stands proud of the knob's face
         knob_top = z0 + h - mark_h
         parts = [
@@ -1147,204 +1110,6 @@ def stove_knob(
     if top_mounted:
         return parts
     return [Part(p.name, p.mesh.transformed(_Z_TO_Y)) for p in parts]
-
-
-# -- lamps ----------------------------------------------------------------------------
-@register("ceiling_lamp", variants=3)
-def ceiling_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Ceiling lamp hanging from a canopy at the top: style 0 a pendant (rod, conical
-    shade, bulb), style 1 a flush mount (drum and dome; on a stem when the box is tall),
-    style 2 a chandelier (arms with candle lights)."""
-    sx, sy, sz = size
-    z0, z1 = -sz / 2, sz / 2
-    r = np.array([sx / 2, sy / 2])
-    rc = min(clip(0.15 * min(sx, sy), 0.03, 0.08), float(r.min()))
-    ch = clip(0.04 * sz, 0.01, 0.04, 0.1 * sz)  # canopy height
-    rod_r = clip(0.02 * min(sx, sy), 0.003, 0.01, 0.05 * min(sx, sy))
-    parts = [Part("canopy", frustum((0.0, 0.0, z1 - ch), ch, 0.7 * rc, rc, ROUND_SEGMENTS))]
-    if style == 0:
-        bulb = min(clip(0.15 * min(sx, sy), 0.02, 0.06), 0.15 * sz)
-        shade_h = min(0.5 * sz, 1.4 * float(r.min())) * _jitter(rng, 0.1)
-        shade_h = min(shade_h, 0.9 * (sz - ch - bulb))
-        zsb = z0 + bulb
-        parts += [
-            Part(
-                "rod",
-                _rod((0.0, 0.0, zsb + shade_h), (0.0, 0.0, z1 - ch), rod_r, extend0=0.2 * shade_h),
-            ),
-            Part(
-                "shade",
-                frustum(
-                    (0.0, 0.0, zsb), shade_h, r, r * float(rng.uniform(0.15, 0.3)), ROUND_SEGMENTS
-                ),
-            ),
-            Part(
-                "bulb",
-                ellipsoid(
-                    (0.0, 0.0, zsb + 0.3 * bulb), (bulb, bulb, 1.3 * bulb), segments=ROD_SEGMENTS
-                ),
-            ),
-        ]
-        return parts
-    if style == 1:
-        # drum and dome keep lamp-like proportions; a tall box gets a longer stem instead
-        body_h = min(0.9 * (sz - ch), 0.6 * float(min(sx, sy)))
-        drum_h = 0.4 * body_h * _jitter(rng, 0.1)
-        zd = z0 + body_h  # drum top
-        dome = ellipsoid(
-            (0.0, 0.0, zd - drum_h),
-            (r[0], r[1], zd - drum_h - z0),
-            rings=8,
-            segments=ROUND_SEGMENTS,
-        )
-        lower = dome.vertices[dome.vertices[:, 2] <= zd - drum_h + 1e-9]
-        parts += [
-            Part(
-                "rod", _rod((0.0, 0.0, zd), (0.0, 0.0, z1 - ch), 2.5 * rod_r, extend0=0.2 * drum_h)
-            ),
-            Part("drum", cylinder((0.0, 0.0, zd - drum_h / 2), r, drum_h, ROUND_SEGMENTS)),
-            Part("dome", hull(lower)),
-        ]
-        return parts
-    n_arms = int(rng.integers(5, 7))
-    cup_r = min(clip(0.05 * min(sx, sy), 0.012, 0.03), 0.08 * sz)
-    zb = z0 + 0.3 * sz  # body centre
-    body_r = clip(0.1 * min(sx, sy), 0.02, 0.08)
-    arm_z = zb + 0.1 * sz
-    candle_h = 0.22 * sz
-    flame = 0.8 * cup_r
-    parts += [
-        Part("rod", _rod((0.0, 0.0, zb), (0.0, 0.0, z1 - ch), rod_r)),
-        Part(
-            "body", ellipsoid((0.0, 0.0, zb), (body_r, body_r, 0.12 * sz), segments=ROUND_SEGMENTS)
-        ),
-        Part("finial", frustum((0.0, 0.0, z0), zb - z0, 0.0001, 0.5 * body_r, ROD_SEGMENTS)),
-    ]
-    for k in range(n_arms):
-        a = 2 * np.pi * k / n_arms + np.pi / 2
-        ex, ey = (r[0] - cup_r) * np.cos(a), (r[1] - cup_r) * np.sin(a)
-        parts += [
-            Part(f"arm_{k}", _rod((0.0, 0.0, zb), (ex, ey, arm_z), 0.7 * rod_r + 0.002)),
-            Part(
-                f"cup_{k}",
-                frustum((ex, ey, arm_z - 0.5 * cup_r), cup_r, 0.4 * cup_r, cup_r, ROD_SEGMENTS),
-            ),
-            Part(
-                f"candle_{k}",
-                cylinder(
-                    (ex, ey, arm_z + 0.5 * cup_r + candle_h / 2),
-                    0.4 * cup_r,
-                    candle_h,
-                    ROD_SEGMENTS,
-                ),
-            ),
-            Part(
-                f"flame_{k}",
-                ellipsoid(
-                    (ex, ey, arm_z + 0.5 * cup_r + candle_h + flame),
-                    (0.6 * flame, 0.6 * flame, flame),
-                    rings=6,
-                    segments=ROD_SEGMENTS,
-                ),
-            ),
-        ]
-    return parts
-
-
-@register("floor_lamp", variants=3)
-def floor_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Floor lamp: style 0 a disc base, pole and drum shade, style 1 a tripod with a
-    conical shade, style 2 a torchiere (an upturned bowl on a tall pole)."""
-    sx, sy, sz = size
-    z0, z1 = -sz / 2, sz / 2
-    r = np.array([sx / 2, sy / 2])
-    pole_r = clip(0.03 * min(sx, sy), 0.008, 0.02)
-    base_t = clip(0.02 * sz, 0.012, 0.04)
-    if style == 2:
-        bowl_h = clip(0.12 * sz, 0.06, 0.6 * float(r.min())) * _jitter(rng, 0.1)
-        base_r = 0.6 * r * _jitter(rng, 0.1)
-        return [
-            Part("base", frustum((0.0, 0.0, z0), base_t, base_r, 0.85 * base_r, ROUND_SEGMENTS)),
-            Part("pole", _rod((0.0, 0.0, z0 + base_t), (0.0, 0.0, z1 - 0.6 * bowl_h), pole_r)),
-            Part("shade", frustum((0.0, 0.0, z1 - bowl_h), bowl_h, 0.2 * r, r, ROUND_SEGMENTS)),
-        ]
-    shade_h = clip(0.18 * sz, 0.12, 1.2 * float(r.min())) * _jitter(rng, 0.1)
-    zsb = z1 - shade_h
-    top = float(rng.uniform(0.75, 0.9)) if style == 0 else float(rng.uniform(0.4, 0.55))
-    parts = [
-        Part("shade", frustum((0.0, 0.0, zsb), shade_h, r, top * r, ROUND_SEGMENTS)),
-        Part(
-            "finial",
-            ellipsoid(
-                (0.0, 0.0, z1 - 0.2 * shade_h), (1.5 * pole_r,) * 3, rings=6, segments=ROD_SEGMENTS
-            ),
-        ),
-    ]
-    if style == 0:
-        base_r = 0.6 * r * _jitter(rng, 0.1)
-        parts += [
-            Part("base", frustum((0.0, 0.0, z0), base_t, base_r, 0.9 * base_r, ROUND_SEGMENTS)),
-            Part("pole", _rod((0.0, 0.0, z0 + base_t), (0.0, 0.0, z1 - 0.2 * shade_h), pole_r)),
-        ]
-        return parts
-    joint = z0 + 0.4 * sz * _jitter(rng, 0.1)
-    leg_r = 0.8 * pole_r
-    parts.append(Part("pole", _rod((0.0, 0.0, joint), (0.0, 0.0, z1 - 0.2 * shade_h), pole_r)))
-    for k in range(3):
-        a = 2 * np.pi * k / 3 - np.pi / 2
-        foot = ((r[0] - leg_r) * np.cos(a), (r[1] - leg_r) * np.sin(a), z0)
-        parts.append(Part(f"leg_{k}", _rod(foot, (0.0, 0.0, joint), leg_r, extend1=pole_r)))
-    return parts
-
-
-@register("wall_lamp", variants=3)
-def wall_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Wall lamp (sconce) on a back plate at -y: style 0 an arm up to a cone shade open
-    upward, style 1 an arm out to a bell shade hanging down, style 2 a flush half-round
-    uplighter."""
-    sx, sy, sz = size
-    x0, y0, z0 = -size / 2
-    x1, y1, z1 = size / 2
-    bt = clip(0.1 * sy, 0.006, 0.02, 0.2 * sy)  # back plate thickness
-    pw = clip(0.45 * sx, 0.04, 0.12, sx)
-    arm_r = clip(0.05 * min(sx, sy), 0.004, 0.012, 0.05 * min(sx, sy, sz))
-    if style == 2:
-        half = np.linspace(0.0, np.pi, ROUND_SEGMENTS // 2 + 1)
-        ry = sy - bt
-        shell = np.stack([(sx / 2) * np.cos(half), y0 + bt + ry * np.sin(half)], 1)
-        ph = 0.8 * sz * _jitter(rng, 0.05)
-        return [
-            Part("back_plate", box_between((-pw / 2, y0, z0), (pw / 2, y0 + bt, z1))),
-            Part("shade", prism(shell, z1 - 0.1 * sz - ph, z1 - 0.1 * sz)),
-        ]
-    ry = (sy - bt) / 2
-    r = np.array([sx / 2, ry])
-    yc = y1 - ry
-    shade_h = 0.5 * sz * _jitter(rng, 0.08)
-    ph = 0.55 * sz  # back plate height
-    if style == 0:
-        za = z0 + 0.25 * sz  # arm leaves the plate here
-        zsb = z1 - shade_h
-        return [
-            Part("back_plate", box_between((-pw / 2, y0, z0), (pw / 2, y0 + bt, z0 + ph))),
-            Part("arm", _rod((0.0, y0 + bt, za), (0.0, yc, za), arm_r, extend1=arm_r)),
-            Part("stem", _rod((0.0, yc, za), (0.0, yc, zsb + 2 * arm_r), arm_r)),
-            Part("shade", frustum((0.0, yc, zsb), shade_h, 0.3 * r, r, ROUND_SEGMENTS)),
-        ]
-    za = z1 - 0.2 * sz
-    zst = z0 + shade_h  # shade top
-    return [
-        Part("back_plate", box_between((-pw / 2, y0, z1 - ph), (pw / 2, y0 + bt, z1))),
-        Part("arm", _rod((0.0, y0 + bt, za), (0.0, yc, za), arm_r, extend1=arm_r)),
-        Part("stem", _rod((0.0, yc, za), (0.0, yc, zst - 2 * arm_r), arm_r)),
-        Part("shade", frustum((0.0, yc, z0), shade_h, r, 0.35 * r, ROUND_SEGMENTS)),
-    ]
 
 
 # -- wall objects ---------------------------------------------------------------------
@@ -1381,7 +1146,7 @@ def painting(
     x1, y1, z1 = hi
     if style == 2:
         return [Part("canvas", box_between(lo, hi))]
-    fw = clip(0.07 * min(sx, sz), 0.01, 0.1, 0.15 * min(sx, sz)) * _jitter(rng, 0.15)
+    fw = clip(0.07 * min(sx, sz), 0.01, 0.1, 0.15 * min(sx, sz)) * jitter(rng, 0.15)
     if style == 1:
         fw *= 0.5
     recess = 0.45 * sy
@@ -1416,7 +1181,7 @@ def mirror(
     lo, hi = -size / 2, size / 2
     x0, y0, z0 = lo
     x1, y1, z1 = hi
-    fw = clip(0.05 * min(sx, sz), 0.01, 0.07, 0.15 * min(sx, sz)) * _jitter(rng, 0.15)
+    fw = clip(0.05 * min(sx, sz), 0.01, 0.07, 0.15 * min(sx, sz)) * jitter(rng, 0.15)
     recess = 0.3 * sy
     if style == 0:
         parts = _frame_bars(lo, hi, fw, 0.5 * fw)
@@ -1471,7 +1236,7 @@ def curtains(
     zr = z1 - fr
     xr0, xr1 = x0 + 2 * fr, x1 - 2 * fr
     parts = [
-        Part("rod", _rod((xr0, ym, zr), (xr1, ym, zr), rr)),
+        Part("rod", bar((xr0, ym, zr), (xr1, ym, zr), rr)),
         Part(
             "finial_left",
             ellipsoid((x0 + fr, ym, zr), (fr, fr, fr), rings=6, segments=ROD_SEGMENTS),
@@ -1480,8 +1245,8 @@ def curtains(
             "finial_right",
             ellipsoid((x1 - fr, ym, zr), (fr, fr, fr), rings=6, segments=ROD_SEGMENTS),
         ),
-        Part("bracket_left", _rod((xr0 + rr, y0, zr), (xr0 + rr, ym, zr), 0.6 * rr)),
-        Part("bracket_right", _rod((xr1 - rr, y0, zr), (xr1 - rr, ym, zr), 0.6 * rr)),
+        Part("bracket_left", bar((xr0 + rr, y0, zr), (xr0 + rr, ym, zr), 0.6 * rr)),
+        Part("bracket_right", bar((xr1 - rr, y0, zr), (xr1 - rr, ym, zr), 0.6 * rr)),
     ]
     width = xr1 - xr0
     if style == 0:
@@ -1494,11 +1259,11 @@ def curtains(
     pz = (z0, zr)  # fabric hangs from the rod's axis down to the floor
     parts += _named(
         "panel_left",
-        _pleats(xr0, xr0 + panel, ym, fab_d, *pz, pitch * _jitter(rng, 0.1), per_panel),
+        _pleats(xr0, xr0 + panel, ym, fab_d, *pz, pitch * jitter(rng, 0.1), per_panel),
     )
     parts += _named(
         "panel_right",
-        _pleats(xr1 - panel, xr1, ym, fab_d, *pz, pitch * _jitter(rng, 0.1), per_panel),
+        _pleats(xr1 - panel, xr1, ym, fab_d, *pz, pitch * jitter(rng, 0.1), per_panel),
     )
     return parts
 
@@ -1543,7 +1308,7 @@ def blinds(
         cx = x1 - clip(0.05 * sx, 0.01, 0.05)
         cz = z0 + 0.35 * sz
         parts += [
-            Part("cord", _rod((cx, y1 - 2 * cr, zr), (cx, y1 - 2 * cr, cz), cr)),
+            Part("cord", bar((cx, y1 - 2 * cr, zr), (cx, y1 - 2 * cr, cz), cr)),
             Part(
                 "cord_tassel",
                 ellipsoid(
@@ -1558,7 +1323,7 @@ def blinds(
         t = clip(0.05 * sy, 0.001, 0.003)
         vw = 1.05 * pitch
         turn = np.arcsin(np.clip((0.9 * sy - t) / vw, 0.0, np.sin(np.radians(70.0))))
-        turn *= _jitter(rng, 0.1)
+        turn *= jitter(rng, 0.1)
         rot = np.array(
             [[np.cos(turn), -np.sin(turn), 0.0], [np.sin(turn), np.cos(turn), 0.0], [0.0, 0.0, 1.0]]
         )
@@ -1589,7 +1354,7 @@ def blinds(
         ),
         Part(
             "chain",
-            _rod(
+            bar(
                 (x1 - 0.02 * sx, y1 - 0.002, zr),
                 (x1 - 0.02 * sx, y1 - 0.002, z0),
                 min(0.002, 0.05 * sy),
@@ -1609,8 +1374,8 @@ def house_plant(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    rt = 0.3 * min(sx, sy) * _jitter(rng, 0.08)  # pot top radius
-    ph = clip(0.3 * sz, 0.05, 3 * rt, 0.4 * sz) * _jitter(rng, 0.1)  # pot height
+    rt = 0.3 * min(sx, sy) * jitter(rng, 0.08)  # pot top radius
+    ph = clip(0.3 * sz, 0.05, 3 * rt, 0.4 * sz) * jitter(rng, 0.1)  # pot height
     soil = z0 + ph
     rim_h = 0.15 * ph
     parts = [
@@ -1652,14 +1417,14 @@ def house_plant(
         # a standard tree: trunk, a ring of four leaf balls touching the box sides, one on top
         crown_z = soil + 0.6 * fh
         trunk_r = clip(0.03 * min(sx, sy), 0.006, 0.03)
-        parts.append(Part("trunk", _rod((0.0, 0.0, soil - 0.01), (0.0, 0.0, crown_z), trunk_r)))
-        top = np.array([0.32 * sx, 0.32 * sy, 0.22 * fh]) * _jitter(rng, 0.08)
+        parts.append(Part("trunk", bar((0.0, 0.0, soil - 0.01), (0.0, 0.0, crown_z), trunk_r)))
+        top = np.array([0.32 * sx, 0.32 * sy, 0.22 * fh]) * jitter(rng, 0.08)
         parts.append(
             Part("crown_top", ellipsoid((0.0, 0.0, z1 - top[2]), top, segments=ROUND_SEGMENTS))
         )
         for k in range(4):
             a = k * np.pi / 2 + rng.uniform(-0.1, 0.1)
-            rk = np.array([0.27 * sx, 0.27 * sy, 0.17 * fh]) * _jitter(rng, 0.1)
+            rk = np.array([0.27 * sx, 0.27 * sy, 0.17 * fh]) * jitter(rng, 0.1)
             c = (
                 (half[0] - rk[0]) * np.cos(a),
                 (half[1] - rk[1]) * np.sin(a),
@@ -1694,7 +1459,7 @@ def house_plant(
         leaf = ellipsoid(
             (0.0, 0.0, 0.0), (leaf_w / 2, 0.06 * leaf_w, length / 2), rings=6, segments=ROD_SEGMENTS
         )
-        parts.append(Part(f"stem_{k}", _rod((0.0, 0.0, soil - 0.01), stalk, stem_r)))
+        parts.append(Part(f"stem_{k}", bar((0.0, 0.0, soil - 0.01), stalk, stem_r)))
         parts.append(Part(f"leaf_{k}", leaf.transformed(rot, stalk + d * length / 2)))
     return parts
 
@@ -1709,7 +1474,7 @@ def vacuum_cleaner(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     if style == 0:
-        head_d = 0.5 * sy * _jitter(rng, 0.08)
+        head_d = 0.5 * sy * jitter(rng, 0.08)
         head_h = clip(0.08 * sz, 0.03, 0.1, 0.15 * sz)
         wr = clip(0.08 * sz, 0.025, 0.07, 0.15 * sz)  # rear wheel radius
         ww = clip(0.08 * sx, 0.015, 0.04, 0.15 * sx)
@@ -1756,7 +1521,7 @@ def vacuum_cleaner(
             ),
             Part(
                 "handle",
-                _rod(
+                bar(
                     (0.0, yb, body_top - 0.02),
                     (0.0, yb - 0.1 * bd, z1 - 2 * grip_r),
                     clip(0.012 * sz, 0.008, 0.015, 0.04 * sz),
@@ -1764,7 +1529,7 @@ def vacuum_cleaner(
             ),
             Part(
                 "grip",
-                _rod(
+                bar(
                     (-0.25 * sx, yb - 0.1 * bd, z1 - grip_r),
                     (0.25 * sx, yb - 0.1 * bd, z1 - grip_r),
                     grip_r,
@@ -1804,7 +1569,7 @@ def vacuum_cleaner(
             Part(
                 "nozzle", box_between((-0.4 * sx, y1 - nozzle_d, z0), (0.4 * sx, y1, z0 + nozzle_h))
             ),
-            Part("wand", _rod((0.0, yw, z0 + nozzle_h), grip, hose_r)),
+            Part("wand", bar((0.0, yw, z0 + nozzle_h), grip, hose_r)),
         ]
         sag = np.array([0.0, yb, z0 + bh + 0.3 * (z1 - z0 - bh)])
     else:

@@ -466,3 +466,37 @@ def _handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded):
         ),
         Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out - ch, hw, z_lo + bar))),
     ]
+
+
+# -- rods and frames (fixtures, lighting) -------------------------------------------------
+def axis_frame(direction: np.ndarray) -> np.ndarray:
+    """(3, 3) right-handed rotation whose third column is the unit ``direction`` (3,)."""
+    d = direction / np.linalg.norm(direction)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(helper, d)
+    u /= np.linalg.norm(u)
+    return np.stack([u, np.cross(d, u), d], axis=1)
+
+
+def bar(
+    p0: Sequence[float],
+    p1: Sequence[float],
+    radius: float,
+    segments: int = ROD_SEGMENTS,
+    extend0: float = 0.0,
+    extend1: float = 0.0,
+) -> Mesh:
+    """Round bar from p0 (3,) to p1 (3,), lengthened past p0 / p1 by ``extend0`` /
+    ``extend1`` (so that bars meeting at an angle leave no gap)."""
+    a, b = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
+    d = b - a
+    length = float(np.linalg.norm(d))
+    u = d / length
+    return frustum(
+        a - u * extend0,
+        length + extend0 + extend1,
+        radius,
+        radius,
+        segments,
+        rotation=axis_frame(u),
+    )
