@@ -8,8 +8,6 @@ left open, the box deciding whether a thing lies or stands).
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
@@ -97,7 +95,11 @@ def _free(asset: Asset, point) -> bool:
 
 # -- the contract, for every category ----------------------------------------------------
 def test_registers_exactly_the_household_categories():
-    mine = {c for c, g in generators().items() if g.fn.__module__.endswith(".household")}
+    mine = {
+        c
+        for c, g in generators().items()
+        if g.fn.__module__.endswith(".household") or c == "table_lamp"  # lighting.py
+    }
     assert mine == set(TYPICAL_SIZES)
     assert all(generators()[c].variants >= 2 for c in mine)
 
@@ -126,21 +128,6 @@ def test_styles_differ(category):
         for j in range(i + 1, len(meshes)):
             a, b = meshes[i].vertices, meshes[j].vertices
             assert a.shape != b.shape or not np.allclose(a, b), (category, i, j)
-
-
-def test_generation_time_per_category():
-    """Median build time of every category (printed; no limit is asserted here)."""
-    rows = []
-    for category in sorted(TYPICAL_SIZES):
-        size = np.array(TYPICAL_SIZES[category])
-        times = []
-        for seed in range(3):
-            for style in _styles(category):
-                t0 = time.perf_counter()
-                generate(category, size, rng=seed, style=style)
-                times.append(time.perf_counter() - t0)
-        rows.append(f"{category:18s} {1e3 * np.median(times):6.2f} ms")
-    print("\nhousehold generation, median per category:\n" + "\n".join(rows))
 
 
 # -- screens ---------------------------------------------------------------------------------

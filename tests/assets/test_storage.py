@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
@@ -143,21 +141,6 @@ def test_deterministic_and_styles_differ(cat):
                 meshes[i].vertices, meshes[j].vertices
             )
             assert not same, f"{cat}: styles {i} and {j} are the same mesh"
-
-
-def test_generation_time(capsys):
-    times = {}
-    for cat, sizes in SIZES.items():
-        runs = []
-        for k in range(6):
-            t0 = time.perf_counter()
-            generate(cat, sizes[k % len(sizes)], rng=k)
-            runs.append(time.perf_counter() - t0)
-        times[cat] = float(np.median(runs)) * 1e3
-    with capsys.disabled():
-        print(
-            "\nstorage generation median ms: " + ", ".join(f"{c} {t:.2f}" for c, t in times.items())
-        )
 
 
 # -- instance fitting ------------------------------------------------------------------

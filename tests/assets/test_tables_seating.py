@@ -4,7 +4,6 @@ geometry placement relies on (tops, knee space, seats, backs, arms, mattresses).
 from __future__ import annotations
 
 import re
-import time
 
 import numpy as np
 import pytest
@@ -315,17 +314,3 @@ def test_chair_styles_stand_on_the_floor(assets):
         # the floor contact spans the seat: the chair cannot tip forward or back
         assert np.ptp(xs[:, 1]) > 0.5 * SIZES["chair"][1][1]
         assert np.ptp(xs[:, 0]) > 0.5 * SIZES["chair"][1][0]
-
-
-def test_generation_time():
-    """Median build time per category (printed; nothing asserted about time)."""
-    gens = generators()
-    for cat in SIZES:
-        times = []
-        for style in range(gens[cat].variants):
-            generate(cat, SIZES[cat][1], rng=0, style=style)  # warm-up (scipy import, caches)
-            for seed in range(5):
-                t0 = time.perf_counter()
-                generate(cat, SIZES[cat][1], rng=seed, style=style)
-                times.append(time.perf_counter() - t0)
-        print(f"{cat:15s} median {1e3 * float(np.median(times)):.2f} ms")

@@ -1,8 +1,8 @@
-"""Kitchen, tableware and food generators: contract, determinism and per-family geometry."""
+"""Tableware, kitchen appliance and food generators (tableware.py, appliances.py, food.py):
+contract, determinism and per-family geometry."""
 
 from __future__ import annotations
 
-import time
 from functools import cache
 
 import numpy as np
@@ -43,6 +43,8 @@ UTENSIL_ENDS = {
 }  # fmt: skip
 """Part-name prefixes of a utensil's working end (at +y) and its handle (at -y)."""
 SEED = 7
+FAMILY_MODULES = {f"pair2scene.assets.generators.{m}" for m in ("tableware", "appliances", "food")}
+"""The modules whose categories this file covers."""
 
 
 @cache
@@ -75,11 +77,7 @@ def _variants(category: str) -> int:
 
 
 def test_registers_exactly_the_family():
-    mine = {
-        c
-        for c, g in generators().items()
-        if g.fn.__module__ == "pair2scene.assets.generators.tableware"
-    }
+    mine = {c for c, g in generators().items() if g.fn.__module__ in FAMILY_MODULES}
     assert mine == set(CATEGORIES)
     assert all(_variants(c) >= 2 for c in CATEGORIES)
 
@@ -303,16 +301,3 @@ def test_tall_and_flat_things():
         foil = _asset("aluminum_foil", style)
         if style == 0:
             assert np.ptp(_parts(foil, "roll").bounds[:, 0]) > 0.8 * foil.size[0]
-
-
-def test_generation_time():
-    """Median build time per category (printed; nothing asserted: machines differ)."""
-    lines = []
-    for category in CATEGORIES:
-        times = []
-        for i in range(6):
-            t0 = time.perf_counter()
-            generate(category, TYPICAL[category], i, style=i % _variants(category))
-            times.append(time.perf_counter() - t0)
-        lines.append(f"{category:15s} {1e3 * np.median(times):6.2f} ms")
-    print("\n" + "\n".join(lines))

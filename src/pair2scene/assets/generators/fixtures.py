@@ -1,9 +1,9 @@
-"""Fixtures, lamps, wall objects and plants.
+"""Fixtures, wall objects and plants.
 
 Bathroom and kitchen fixtures (sinks, toilets, bathtubs, showers, faucets,
-stoves and their knobs), lamps (ceiling, floor, wall), wall objects
-(paintings, mirrors, curtains, blinds, towel and toilet-paper holders), house
-plants and vacuum cleaners.
+stoves and their knobs), wall objects (paintings, mirrors, curtains, blinds,
+towel and toilet-paper holders), house plants and vacuum cleaners. Lamps are in
+``lighting.py``.
 
 Every generator follows the contract of :mod:`pair2scene.assets.registry`:
 convex parts inside [-size/2, size/2], +z up, +y front, +x right. Wall
@@ -19,6 +19,15 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from pair2scene.assets.generators.shapes import (
+    FINE_SEGMENTS,
+    ROD_SEGMENTS,
+    ROUND_SEGMENTS,
+    bar,
+    clip,
+    jitter,
+    lathe,
+)
 from pair2scene.assets.mesh import (
     Mesh,
     Part,
@@ -28,16 +37,8 @@ from pair2scene.assets.mesh import (
     ellipsoid,
     frustum,
     hull,
-    prism,
 )
 from pair2scene.assets.registry import register
-
-ROUND_SEGMENTS = 12
-"""Sides of mid-size round parts (bowls, shades, pots): reads as round in a 256 px view."""
-FINE_SEGMENTS = 16
-"""Sides of large round parts (freestanding tubs, oval mirrors) that fill the picture."""
-ROD_SEGMENTS = 8
-"""Sides of rods, knobs and feet: a few pixels wide on screen."""
 
 SINK_TALL_M = 0.45
 """A sink box taller than this stands on the floor (pedestal or vanity); a lower one is a
@@ -75,50 +76,6 @@ _HEX_FACES = box((0.0, 0.0, 0.0), (2.0, 2.0, 2.0)).faces
 
 
 # -- helpers ------------------------------------------------------------------------
-def _jitter(rng: np.random.Generator, amount: float) -> float:
-    """A factor drawn uniformly from [1 - amount, 1 + amount]."""
-    return 1.0 + float(rng.uniform(-amount, amount))
-
-
-def _clip(value: float, lo: float, hi: float, cap: float = np.inf) -> float:
-    """``value`` held in [lo, hi] (real-world limits), then never above ``cap`` (a share of
-    the box, so that a part still fits a box far smaller than the object ever is)."""
-    return float(min(np.clip(value, lo, hi), cap))
-
-
-def _axis_rotation(direction: np.ndarray) -> np.ndarray:
-    """(3, 3) right-handed rotation whose third column is the unit ``direction`` (3,)."""
-    d = direction / np.linalg.norm(direction)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(helper, d)
-    u /= np.linalg.norm(u)
-    return np.stack([u, np.cross(d, u), d], axis=1)
-
-
-def _rod(
-    p0: Sequence[float],
-    p1: Sequence[float],
-    radius: float,
-    segments: int = ROD_SEGMENTS,
-    extend0: float = 0.0,
-    extend1: float = 0.0,
-) -> Mesh:
-    """Round bar from p0 (3,) to p1 (3,), lengthened past p0 / p1 by ``extend0`` /
-    ``extend1`` (so that bars meeting at an angle leave no gap)."""
-    a, b = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    d = b - a
-    length = float(np.linalg.norm(d))
-    u = d / length
-    return frustum(
-        a - u * extend0,
-        length + extend0 + extend1,
-        radius,
-        radius,
-        segments,
-        rotation=_axis_rotation(u),
-    )
-
-
 def _path(
     points: Sequence[Sequence[float]],
     radius: float,
@@ -133,7 +90,7 @@ def _path(
     lap = 0.5 * radius
     n = len(pts) - 1
     return [
-        _rod(
+        bar(
             pts[i],
             pts[i + 1],
             radius,
@@ -186,23 +143,6 @@ def _shell(
             )
         out.append(_hexahedron(np.concatenate(quads)))
     return out
-
-
-def _lathe(
-    cx: float,
-    cy: float,
-    zs: Sequence[float],
-    radii: Sequence[Sequence[float]],
-    segments: int = ROUND_SEGMENTS,
-) -> Mesh:
-    """Convex hull of elliptic rings at heights zs (K,) with radii (K, 2): a bulging solid
-    of revolution (the profile should be concave for the hull to follow it)."""
-    a = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
-    pts = [
-        np.stack([cx + r[0] * np.cos(a), cy + r[1] * np.sin(a), np.full(segments, z)], 1)
-        for z, r in zip(zs, radii)
-    ]
-    return hull(np.concatenate(pts))
 
 
 def _hollow_box(
@@ -306,14 +246,14 @@ def sink(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     tall = sz > SINK_TALL_M
-    faucet_h = min(0.2, 0.3 * sz) * _jitter(rng, 0.1)
+    faucet_h = min(0.2, 0.3 * sz) * jitter(rng, 0.1)
     rim = z1 - faucet_h
-    depth = _clip(0.18 * sz, 0.12, 0.22) if tall else rim - z0
+    depth = clip(0.18 * sz, 0.12, 0.22) if tall else rim - z0
     bottom = rim - depth
-    deck = _clip(0.22 * sy, 0.05, 0.15, 0.3 * sy) * _jitter(rng, 0.1)
-    wall = _clip(0.06 * min(sx, sy), 0.008, 0.03)
+    deck = clip(0.22 * sy, 0.05, 0.15, 0.3 * sy) * jitter(rng, 0.1)
+    wall = clip(0.06 * min(sx, sy), 0.008, 0.03)
     floor_t = min(1.5 * wall, 0.3 * depth)
-    tube = _clip(0.08 * deck, 0.005, 0.012)
+    tube = clip(0.08 * deck, 0.005, 0.012)
     parts: list[Part] = []
     if style == 0:
         ry = (y1 - y0 - deck) / 2
@@ -330,7 +270,7 @@ def sink(
         tip = yc - ry + 0.5 * ry
         if tall:
             py = yc - 0.25 * ry  # the column stands a little toward the wall
-            foot_h = _clip(0.04 * sz, 0.02, 0.05, 0.2 * (bottom - z0))
+            foot_h = clip(0.04 * sz, 0.02, 0.05, 0.2 * (bottom - z0))
             # elliptic frustums keep one aspect ratio so that their sides stay planar
             rf = r_top * (0.34, 0.42)
             rc = r_top * (0.32, 0.4)
@@ -341,11 +281,11 @@ def sink(
                 )
             )
     else:
-        ct = _clip(0.04 * sz, 0.015, 0.05) if tall else min(0.04, 0.3 * depth)
-        hd = _clip(0.04 * sy, 0.012, 0.025, 0.05 * sy) if tall else 0.0  # handle depth
-        door_t = _clip(0.03 * sy, 0.012, 0.02, 0.05 * sy) if tall else 0.0
-        front_m = max(_clip(0.08 * sy, 0.03, 0.08, 0.15 * sy), 1.2 * (hd + door_t))
-        side_m = _clip(0.12 * sx, 0.03, 0.12, 0.2 * sx)
+        ct = clip(0.04 * sz, 0.015, 0.05) if tall else min(0.04, 0.3 * depth)
+        hd = clip(0.04 * sy, 0.012, 0.025, 0.05 * sy) if tall else 0.0  # handle depth
+        door_t = clip(0.03 * sy, 0.012, 0.02, 0.05 * sy) if tall else 0.0
+        front_m = max(clip(0.08 * sy, 0.03, 0.08, 0.15 * sy), 1.2 * (hd + door_t))
+        side_m = clip(0.12 * sx, 0.03, 0.12, 0.2 * sx)
         bx0, bx1, by0, by1 = x0 + side_m, x1 - side_m, y0 + deck, y1 - front_m
         parts += _hollow_box((bx0, by0, bottom), (bx1, by1, rim), wall, floor_t, "basin")
         top = (rim - ct, rim)
@@ -396,8 +336,8 @@ def _vanity(
     sx, sy, sz = size
     bx0, bx1, by1 = basin_front
     face = y1 - hd - door_t  # carcass front, behind doors and handles
-    kick_h = _clip(0.08 * sz, 0.03, 0.1)
-    kick_in = _clip(0.06 * sy, 0.02, 0.06, 0.1 * sy)
+    kick_h = clip(0.08 * sz, 0.03, 0.1)
+    kick_in = clip(0.06 * sy, 0.02, 0.06, 0.1 * sy)
     inset = min(0.01, 0.05 * sx)  # plinth set in from the sides
     parts = [
         Part(
@@ -430,7 +370,7 @@ def sink_basin(
     """Sink basin alone: an open hollow; style 0 rectangular, style 1 an oval bowl."""
     sx, sy, sz = size
     lo, hi = -size / 2, size / 2
-    wall = _clip(0.06 * min(sx, sy), 0.006, 0.025) * _jitter(rng, 0.1)
+    wall = clip(0.06 * min(sx, sy), 0.006, 0.025) * jitter(rng, 0.1)
     floor_t = min(1.5 * wall, 0.25 * sz)
     if style == 0:
         return _hollow_box(lo, hi, wall, floor_t, "basin")
@@ -450,11 +390,11 @@ def toilet(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    seat_top = z0 + 0.42 * sz * _jitter(rng, 0.04)
-    st = _clip(0.04 * sz, 0.012, 0.04, 0.05 * sz)  # seat (lid closed) thickness
+    seat_top = z0 + 0.42 * sz * jitter(rng, 0.04)
+    st = clip(0.04 * sz, 0.012, 0.04, 0.05 * sz)  # seat (lid closed) thickness
     seat_bot = seat_top - st
-    td = _clip(0.22 * sy, 0.08, 0.25, 0.3 * sy) * _jitter(rng, 0.08)  # tank depth
-    rx = min(0.36 * sx * _jitter(rng, 0.05), sx / 2)
+    td = clip(0.22 * sy, 0.08, 0.25, 0.3 * sy) * jitter(rng, 0.08)  # tank depth
+    rx = min(0.36 * sx * jitter(rng, 0.05), sx / 2)
     ry = (y1 - (y0 + 0.9 * td)) / 2
     yc = y1 - ry
     r = np.array([rx, ry])
@@ -465,11 +405,11 @@ def toilet(
         parts.append(
             Part("foot", frustum((0.0, yc - 0.2 * ry, z0), zb - z0, rf, 0.85 * rf, ROUND_SEGMENTS))
         )
-        bowl_radii = [r * 0.6, r * 0.88, r * 0.97]
-        lid_o = _clip(0.03 * sx, 0.005, 0.015, 0.05 * sx)  # lid overhang
-        lid_t = _clip(0.03 * sz, 0.01, 0.03, 0.05 * sz)
-        btn_h = _clip(0.015 * sz, 0.005, 0.015, 0.03 * sz)
-        tank_bot = seat_top + _clip(0.03 * sz, 0.01, 0.04, 0.05 * sz)
+        bowl_factors = (0.6, 0.88, 0.97)
+        lid_o = clip(0.03 * sx, 0.005, 0.015, 0.05 * sx)  # lid overhang
+        lid_t = clip(0.03 * sz, 0.01, 0.03, 0.05 * sz)
+        btn_h = clip(0.015 * sz, 0.005, 0.015, 0.03 * sz)
+        tank_bot = seat_top + clip(0.03 * sz, 0.01, 0.04, 0.05 * sz)
         lid_bot = z1 - btn_h - lid_t
         parts += [
             Part(
@@ -490,13 +430,13 @@ def toilet(
             ),
         ]
     else:
-        zb = seat_bot - 0.5 * (seat_bot - z0) * _jitter(rng, 0.1)
-        bowl_radii = [r * 0.55, r * 0.88, r * 0.97]
+        zb = seat_bot - 0.5 * (seat_bot - z0) * jitter(rng, 0.1)
+        bowl_factors = (0.55, 0.88, 0.97)
         plate_z = z0 + 0.78 * sz
         plate = (
-            _clip(0.35 * sx, 0.08, 0.25),
-            _clip(0.015 * sy, 0.005, 0.012),
-            _clip(0.14 * sz, 0.06, 0.16),
+            clip(0.35 * sx, 0.08, 0.25),
+            clip(0.015 * sy, 0.005, 0.012),
+            clip(0.14 * sz, 0.06, 0.16),
         )
         parts += [
             Part(
@@ -509,9 +449,8 @@ def toilet(
             Part("cistern", box_between((x0, y0, z0), (x1, y0 + td, z1))),
             Part("flush_plate", box((0.0, y0 + td + plate[1] / 2, plate_z), plate)),
         ]
-    parts.append(
-        Part("bowl", _lathe(0.0, yc, [zb, zb + 0.55 * (seat_bot - zb), seat_bot], bowl_radii))
-    )
+    bowl_profile = zip(bowl_factors, (zb, zb + 0.55 * (seat_bot - zb), seat_bot))
+    parts.append(Part("bowl", lathe(bowl_profile, rx, ry, ROUND_SEGMENTS, center=(0.0, yc))))
     return parts
 
 
@@ -525,25 +464,25 @@ def bathtub(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     if style == 0:
-        wall = _clip(0.07 * min(sx, sy), 0.04, 0.12) * _jitter(rng, 0.1)
-        floor_t = _clip(0.15 * sz, 0.04, 0.1, 0.3 * sz)
+        wall = clip(0.07 * min(sx, sy), 0.04, 0.12) * jitter(rng, 0.1)
+        floor_t = clip(0.15 * sz, 0.04, 0.1, 0.3 * sz)
         parts = _hollow_box((x0, y0, z0), (x1, y1, z1), wall, floor_t, "tub")
-        r = _clip(0.03 * sz, 0.01, 0.02)
-        zs = z1 - _clip(0.15 * sz, 0.05, 0.1)
+        r = clip(0.03 * sz, 0.01, 0.02)
+        zs = z1 - clip(0.15 * sz, 0.05, 0.1)
         reach = min(0.12, 0.12 * sx)
         parts.append(
-            Part("spout", _rod((x0 + 0.5 * wall, 0.0, zs), (x0 + wall + reach, 0.0, zs), r))
+            Part("spout", bar((x0 + 0.5 * wall, 0.0, zs), (x0 + wall + reach, 0.0, zs), r))
         )
         return parts
-    foot_h = _clip(0.12 * sz, 0.04, 0.12, 0.2 * sz) * _jitter(rng, 0.1)
-    wall = _clip(0.05 * min(sx, sy), 0.02, 0.06)
-    floor_t = _clip(0.1 * sz, 0.03, 0.06, 0.2 * sz)
+    foot_h = clip(0.12 * sz, 0.04, 0.12, 0.2 * sz) * jitter(rng, 0.1)
+    wall = clip(0.05 * min(sx, sy), 0.02, 0.06)
+    floor_t = clip(0.1 * sz, 0.03, 0.06, 0.2 * sz)
     r_top = np.array([sx / 2, sy / 2])
     taper = float(rng.uniform(0.78, 0.86))
     r_bot = taper * r_top
     zb = z0 + foot_h
     parts = _round_hollow(0.0, 0.0, zb, z1, r_top, taper, wall, floor_t, FINE_SEGMENTS, "tub")
-    fr = _clip(0.05 * min(sx, sy), 0.02, 0.05)
+    fr = clip(0.05 * min(sx, sy), 0.02, 0.05)
     for i, (fx, fy) in enumerate(((-1, -1), (1, -1), (1, 1), (-1, 1))):
         c = (fx * 0.6 * r_bot[0], fy * 0.5 * r_bot[1], z0)
         parts.append(
@@ -559,8 +498,8 @@ def bathtub_basin(
     """Bathtub basin alone: the thin inner hollow; style 0 rectangular, style 1 oval."""
     sx, sy, sz = size
     lo, hi = -size / 2, size / 2
-    wall = _clip(0.025 * min(sx, sy), 0.01, 0.03)
-    floor_t = _clip(0.06 * sz, 0.01, 0.03, 0.2 * sz)
+    wall = clip(0.025 * min(sx, sy), 0.01, 0.03)
+    floor_t = clip(0.06 * sz, 0.01, 0.03, 0.2 * sz)
     if style == 0:
         return _hollow_box(lo, hi, wall, floor_t, "basin")
     r_top = np.array([sx / 2, sy / 2])
@@ -596,8 +535,8 @@ def _shower_head(
     mixer = (4 * pipe_r, 2.5 * pipe_r, 5 * pipe_r)
     return [
         Part("mixer", box((x, y_wall + mixer[1] / 2, z_low), mixer)),
-        Part("riser", _rod((x, yp, z_low), (x, yp, za), pipe_r, extend1=pipe_r)),
-        Part("arm", _rod((x, yp, za), (x, y_wall + reach, za), pipe_r)),
+        Part("riser", bar((x, yp, z_low), (x, yp, za), pipe_r, extend1=pipe_r)),
+        Part("arm", bar((x, yp, za), (x, y_wall + reach, za), pipe_r)),
         Part(
             "head",
             frustum(
@@ -616,11 +555,11 @@ def _shower_cubicle(size: np.ndarray, rng: np.random.Generator, style: int) -> l
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    tray_h = _clip(0.04 * sz, 0.03, 0.1, 0.1 * sz) * _jitter(rng, 0.1)
+    tray_h = clip(0.04 * sz, 0.03, 0.1, 0.1 * sz) * jitter(rng, 0.1)
     zt = z0 + tray_h
     parts = [Part("tray", box_between((x0, y0, z0), (x1, y1, zt)))]
     if style == 0:
-        post = _clip(0.02 * min(sx, sy), 0.015, 0.035, 0.1 * sz)
+        post = clip(0.02 * min(sx, sy), 0.015, 0.035, 0.1 * sz)
         gt = min(0.01, 0.4 * post)
         g = post / 2  # glass runs along the posts' centre line
         parts += [
@@ -653,17 +592,17 @@ def _shower_cubicle(size: np.ndarray, rng: np.random.Generator, style: int) -> l
         )
         z_head = z1 - post - 0.04 * sz
     else:
-        rr = _clip(0.012 * min(sx, sy), 0.01, 0.02, 0.05 * sz)
-        cd = _clip(0.08 * sy, 0.03, 0.08)  # curtain depth (pleat amplitude)
+        rr = clip(0.012 * min(sx, sy), 0.01, 0.02, 0.05 * sz)
+        cd = clip(0.08 * sy, 0.03, 0.08)  # curtain depth (pleat amplitude)
         zr = z1 - rr
         parts += [
             Part(
                 "rod_front",
-                _rod((x0, y1 - cd / 2, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
+                bar((x0, y1 - cd / 2, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
             ),
             Part(
                 "rod_side",
-                _rod((x1 - cd / 2, y0, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
+                bar((x1 - cd / 2, y0, zr), (x1 - cd / 2, y1 - cd / 2, zr), rr, extend1=rr),
             ),
         ]
         cover = float(rng.uniform(0.55, 0.75)) * sx  # the curtain is drawn toward +x
@@ -671,8 +610,8 @@ def _shower_cubicle(size: np.ndarray, rng: np.random.Generator, style: int) -> l
             "curtain", _pleats(x1 - cover, x1, y1 - cd / 2, cd, zt + 0.03 * sz, zr - rr, 0.08, 16)
         )
         z_head = z1 - 0.08 * sz
-    head_r = _clip(0.1 * min(sx, sy), 0.05, 0.12)
-    pipe_r = _clip(0.01 * sz, 0.008, 0.014)
+    head_r = clip(0.1 * min(sx, sy), 0.05, 0.12)
+    pipe_r = clip(0.01 * sz, 0.008, 0.014)
     reach = min(0.3, 0.4 * sy)
     parts += _shower_head(0.0, y0, z0 + 0.45 * sz, z_head, reach, head_r, pipe_r)
     return parts
@@ -689,8 +628,8 @@ def _shower_panel(size: np.ndarray, rng: np.random.Generator, style: int) -> lis
     pd = min(sy, 0.04) if has_head or style == 0 else sy
     parts: list[Part] = []
     if style == 0:
-        post = _clip(0.025 * sx, 0.008, 0.03, 0.1 * min(sx, sz))
-        sill_h = _clip(0.02 * sz, 0.01, 0.03, 0.1 * sz)
+        post = clip(0.025 * sx, 0.008, 0.03, 0.1 * min(sx, sz))
+        sill_h = clip(0.02 * sz, 0.01, 0.03, 0.1 * sz)
         gt = min(0.01, 0.4 * pd)
         yg = y1 - pd / 2
         zs = z0 + sill_h
@@ -717,13 +656,13 @@ def _shower_panel(size: np.ndarray, rng: np.random.Generator, style: int) -> lis
         if not has_head and pd < sy:
             parts.append(Part("sill_back", box_between((x0, y0, z0), (x1, y1 - pd, zs))))
     else:
-        rr = _clip(0.25 * pd, 0.005, 0.015, 0.05 * sz)
+        rr = clip(0.25 * pd, 0.005, 0.015, 0.05 * sz)
         zr = z1 - rr
         ym = y1 - pd / 2
         end_r = min(2 * rr, pd / 2)
         end_t = min(0.008, 0.05 * sx)  # wall flange thickness
         parts += [
-            Part("rod", _rod((x0, ym, zr), (x1, ym, zr), rr)),
+            Part("rod", bar((x0, ym, zr), (x1, ym, zr), rr)),
             Part(
                 "rod_end_left",
                 cylinder((x0 + end_t / 2, ym, zr), end_r, end_t, ROD_SEGMENTS, _Z_TO_X),
@@ -735,11 +674,11 @@ def _shower_panel(size: np.ndarray, rng: np.random.Generator, style: int) -> lis
         ]
         parts += _named(
             "curtain",
-            _pleats(x0 + end_t, x1 - end_t, ym, pd, z0, zr - rr, 0.08 * _jitter(rng, 0.1), 20),
+            _pleats(x0 + end_t, x1 - end_t, ym, pd, z0, zr - rr, 0.08 * jitter(rng, 0.1), 20),
         )
     if has_head:
         head_r = min(0.08, 0.4 * (sy - pd))
-        pipe_r = _clip(0.01 * sz, 0.006, 0.012)
+        pipe_r = clip(0.01 * sz, 0.006, 0.012)
         reach = sy - pd - 1.2 * head_r
         parts += _shower_head(-0.25 * sx, y0, z0 + 0.45 * sz, z1 - 0.06 * sz, reach, head_r, pipe_r)
     return parts
@@ -756,21 +695,21 @@ def towel_holder(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    pt = _clip(0.15 * sy, 0.003, 0.01)  # wall plate thickness
+    pt = clip(0.15 * sy, 0.003, 0.01)  # wall plate thickness
     if style == 0 or sz < 0.5 * sx:
         double = style == 1
         n = int(np.clip(round(sz / TOWEL_RAIL_PITCH_M), 1, 4))
-        r = _clip(0.25 * min(sy, sz / n), 0.003, 0.014) * _jitter(rng, 0.1)
+        r = clip(0.25 * min(sy, sz / n), 0.003, 0.014) * jitter(rng, 0.1)
         if double:
             r = min(r, (sy - pt) / 8)
         yr = y1 - r
-        end = _clip(0.1 * sx, 0.01, 0.08)
+        end = clip(0.1 * sx, 0.01, 0.08)
         zs = [0.0] if n == 1 else list(np.linspace(z0 + r, z1 - r, n))
-        parts = [Part(f"rail_{k}", _rod((x0, yr, z), (x1, yr, z), r)) for k, z in enumerate(zs)]
+        parts = [Part(f"rail_{k}", bar((x0, yr, z), (x1, yr, z), r)) for k, z in enumerate(zs)]
         if double:
             yb = yr - 3.5 * r
             parts += [
-                Part(f"rail_back_{k}", _rod((x0 + 0.5 * r, yb, z), (x1 - 0.5 * r, yb, z), r))
+                Part(f"rail_back_{k}", bar((x0 + 0.5 * r, yb, z), (x1 - 0.5 * r, yb, z), r))
                 for k, z in enumerate(zs)
             ]
         # wall plates and standoff arms at each end; a ladder's arms hold its top and bottom
@@ -784,17 +723,17 @@ def towel_holder(
                         cylinder((xs, y0 + pt / 2, z), min(pr, end), pt, ROD_SEGMENTS, _Z_TO_Y),
                     )
                 )
-                parts.append(Part(f"arm_{side}_{k}", _rod((xs, y0 + pt, z), (xs, yr, z), 0.8 * r)))
+                parts.append(Part(f"arm_{side}_{k}", bar((xs, y0 + pt, z), (xs, yr, z), 0.8 * r)))
             if n > 1:
                 parts.append(
                     Part(
                         f"post_{side}",
-                        _rod((xs, yr, zs[0]), (xs, yr, zs[-1]), r, extend0=r, extend1=r),
+                        bar((xs, yr, zs[0]), (xs, yr, zs[-1]), r, extend0=r, extend1=r),
                     )
                 )
         return parts
-    tube = _clip(0.05 * min(sx, sz), 0.003, 0.01)
-    rr = min(_clip(0.2 * min(sx, sz), 0.015, 0.04), sx / 2)
+    tube = clip(0.05 * min(sx, sz), 0.003, 0.01)
+    rr = min(clip(0.2 * min(sx, sz), 0.015, 0.04), sx / 2)
     z_arm = z1 - rr
     y_ring = y1 - tube
     rx, rz = sx / 2 - tube, (z_arm - z0) / 2 - tube
@@ -803,7 +742,7 @@ def towel_holder(
     ring = np.stack([rx * np.cos(a), np.full_like(a, y_ring), zc + rz * np.sin(a)], 1)
     parts = [
         Part("rosette", cylinder((0.0, y0 + pt / 2, z_arm), rr, pt, ROUND_SEGMENTS, _Z_TO_Y)),
-        Part("arm", _rod((0.0, y0 + pt, z_arm), (0.0, y_ring, z_arm), 1.3 * tube)),
+        Part("arm", bar((0.0, y0 + pt, z_arm), (0.0, y_ring, z_arm), 1.3 * tube)),
     ]
     return parts + _named("ring", _path(ring, tube, closed=True))
 
@@ -817,10 +756,10 @@ def toilet_paper_hanger(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    pt = _clip(0.12 * sy, 0.004, 0.012)
-    sr = _clip(0.12 * min(sy, sz), 0.004, 0.011) * _jitter(rng, 0.1)  # spindle radius
+    pt = clip(0.12 * sy, 0.004, 0.012)
+    sr = clip(0.12 * min(sy, sz), 0.004, 0.011) * jitter(rng, 0.1)  # spindle radius
     if style == 0:
-        ct = _clip(0.06 * min(sx, sz), 0.003, 0.008)  # hood thickness
+        ct = clip(0.06 * min(sx, sz), 0.003, 0.008)  # hood thickness
         zc = z0 + 0.35 * sz  # axis of the quarter-round hood
         ry, rz = sy - pt, z1 - zc
         yw = y0 + pt
@@ -839,17 +778,17 @@ def toilet_paper_hanger(
             pts += [(xe, yw, zc), (xe + ct, yw, zc)]
             parts.append(Part(name, hull(pts)))
         ys, zs = yw + 0.5 * ry, zc + 0.2 * rz
-        parts.append(Part("spindle", _rod((x0 + ct, ys, zs), (x1 - ct, ys, zs), sr)))
+        parts.append(Part("spindle", bar((x0 + ct, ys, zs), (x1 - ct, ys, zs), sr)))
         return parts
-    pw = _clip(0.22 * sx, 0.02, 0.06)
+    pw = clip(0.22 * sx, 0.02, 0.06)
     zc = 0.0
     ys = y1 - sr
     xa = x0 + pw / 2
     return [
         Part("wall_plate", box_between((x0, y0, z0), (x0 + pw, y0 + pt, z1))),
-        Part("arm", _rod((xa, y0 + pt, zc), (xa, ys, zc), 1.2 * sr, extend1=sr)),
-        Part("spindle", _rod((xa, ys, zc), (x1 - sr, ys, zc), sr)),
-        Part("stop", _rod((x1 - sr, ys, zc - sr), (x1 - sr, ys, zc + 2.5 * sr), sr)),
+        Part("arm", bar((xa, y0 + pt, zc), (xa, ys, zc), 1.2 * sr, extend1=sr)),
+        Part("spindle", bar((xa, ys, zc), (x1 - sr, ys, zc), sr)),
+        Part("stop", bar((x1 - sr, ys, zc - sr), (x1 - sr, ys, zc + 2.5 * sr), sr)),
     ]
 
 
@@ -862,11 +801,11 @@ def faucet(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    tube = _clip(0.05 * min(sx * 2, sy, sz), 0.004, 0.014) * _jitter(rng, 0.1)
-    plate_h = _clip(0.06 * sz, 0.004, 0.015)
+    tube = clip(0.05 * min(sx * 2, sy, sz), 0.004, 0.014) * jitter(rng, 0.1)
+    plate_h = clip(0.06 * sz, 0.004, 0.015)
     kr = min(1.6 * tube, 0.25 * sx)  # handle column radius
     if style == 0:
-        pry = _clip(0.22 * sy, 1.5 * tube, 0.05)
+        pry = clip(0.22 * sy, 1.5 * tube, 0.05)
         yb = y0 + pry
         parts = [
             Part(
@@ -891,11 +830,11 @@ def faucet(
                 parts.append(
                     Part(
                         f"lever_{name}",
-                        _rod((hx, yb, hz + 0.1 * sz), (hx, yb + 3 * kr, hz + 0.14 * sz), 0.5 * kr),
+                        bar((hx, yb, hz + 0.1 * sz), (hx, yb + 3 * kr, hz + 0.14 * sz), 0.5 * kr),
                     )
                 )
         return parts
-    br = min(_clip(0.15 * sy, 2 * tube, 0.06), sx / 2)  # mixer body radius
+    br = min(clip(0.15 * sy, 2 * tube, 0.06), sx / 2)  # mixer body radius
     yb = y0 + br
     body_top = z0 + 0.72 * sz
     zs = z0 + 0.55 * sz  # spout height
@@ -905,7 +844,7 @@ def faucet(
         Part("body", cylinder((0.0, yb, (z0 + body_top) / 2), br, body_top - z0, ROUND_SEGMENTS)),
         Part(
             "lever",
-            _rod(
+            bar(
                 (0.0, yb, body_top),
                 (0.0, yb + 0.35 * (y1 - yb), z1 - lever_r),
                 lever_r,
@@ -937,14 +876,14 @@ def stove(
     x1, y1, z1 = size / 2
     tall = sz >= STOVE_BODY_MIN_M
     top_h = (
-        _clip(0.03 * sz, 0.006, 0.03, 0.3 * sz)
+        clip(0.03 * sz, 0.006, 0.03, 0.3 * sz)
         if style == 0
-        else _clip(0.01 * sz, 0.003, 0.008, 0.1 * sz)
+        else clip(0.01 * sz, 0.003, 0.008, 0.1 * sz)
     )
-    slab_t = _clip(0.05 * sz, 0.02, 0.05) if tall else sz - top_h
+    slab_t = clip(0.05 * sz, 0.02, 0.05) if tall else sz - top_h
     zs = z1 - top_h  # cooktop surface
-    knob_r = _clip(0.04 * min(sx, sy), 0.012, 0.025)
-    knob_d = _clip(0.04 * sy, 0.01, 0.025, 0.1 * sy)
+    knob_r = clip(0.04 * min(sx, sy), 0.012, 0.025)
+    knob_d = clip(0.04 * sy, 0.01, 0.025, 0.1 * sy)
     front = y1 - knob_d if not tall or style == 1 else y1  # slab front face
     parts = [Part("cooktop", box_between((x0, y0, zs - slab_t), (x1, front, zs)))]
     # burners on a 2 x 2 grid, shifted back a little where front knobs need room
@@ -1007,10 +946,10 @@ def _stove_body(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, _ = size / 2
-    kick_h = _clip(0.08 * sz, 0.03, 0.1)
-    hd = _clip(0.05 * sy, 0.02, 0.04, 0.1 * sy)  # handle depth
+    kick_h = clip(0.08 * sz, 0.03, 0.1)
+    hd = clip(0.05 * sy, 0.02, 0.04, 0.1 * sy)  # handle depth
     face = y1 - hd - (knob_d if style == 1 else 0.0)
-    door_t = _clip(0.02 * sy, 0.008, 0.02, 0.05 * sy)
+    door_t = clip(0.02 * sy, 0.008, 0.02, 0.05 * sy)
     body_front = face - door_t
     parts = [
         Part(
@@ -1020,8 +959,8 @@ def _stove_body(
     ]
     g = min(0.005, 0.02 * sx)  # between fronts
     if style == 0:
-        strip = _clip(0.12 * (z_top - z0), 0.05, 0.12)  # control strip above the door
-        drawer_h = _clip(0.15 * (z_top - z0), 0.05, 0.15)
+        strip = clip(0.12 * (z_top - z0), 0.05, 0.12)  # control strip above the door
+        drawer_h = clip(0.15 * (z_top - z0), 0.05, 0.15)
         dz0, dz1 = z0 + kick_h + drawer_h + g, z_top - strip
         wy = face + 0.3 * door_t
         hz = dz1 - 0.08 * (dz1 - dz0)
@@ -1043,7 +982,7 @@ def _stove_body(
             ),
             Part(
                 "oven_handle",
-                _rod((x0 + 0.12 * sx, y1 - hr, hz), (x1 - 0.12 * sx, y1 - hr, hz), hr),
+                bar((x0 + 0.12 * sx, y1 - hr, hz), (x1 - 0.12 * sx, y1 - hr, hz), hr),
             ),
         ]
         for s, name in ((-1, "left"), (1, "right")):
@@ -1093,7 +1032,7 @@ def _single_burner(size: np.ndarray, rng: np.random.Generator, style: int) -> li
     z0, z1 = -sz / 2, sz / 2
     r = np.array([sx / 2, sy / 2])
     if style == 0:
-        g = 0.12 * min(sx, sy) / 2 * _jitter(rng, 0.1)
+        g = 0.12 * min(sx, sy) / 2 * jitter(rng, 0.1)
         return [
             Part("pan", cylinder((0.0, 0.0, z0 + 0.15 * sz), r, 0.3 * sz, ROUND_SEGMENTS)),
             Part("burner", cylinder((0.0, 0.0, z0 + 0.45 * sz), 0.5 * r, 0.3 * sz, ROUND_SEGMENTS)),
@@ -1129,7 +1068,7 @@ def stove_knob(
     r = np.array([w / 2, t / 2])
     z0 = -h / 2
     if style == 0:
-        base_h = 0.2 * h * _jitter(rng, 0.1)
+        base_h = 0.2 * h * jitter(rng, 0.1)
         fin = (0.9 * w, 0.22 * t, h - base_h)
         parts = [
             Part("base", cylinder((0.0, 0.0, z0 + base_h / 2), r, base_h, ROUND_SEGMENTS)),
@@ -1145,7 +1084,7 @@ def stove_knob(
             Part("grip", box((0.0, 0.0, z0 + base_h + fin[2] / 2), fin)),
         ]
     else:
-        skirt_h = 0.35 * h * _jitter(rng, 0.1)
+        skirt_h = 0.35 * h * jitter(rng, 0.1)
         mark_h = 0.08 * h  # the pointer stands proud of the knob's face
         knob_top = z0 + h - mark_h
         parts = [
@@ -1171,204 +1110,6 @@ def stove_knob(
     if top_mounted:
         return parts
     return [Part(p.name, p.mesh.transformed(_Z_TO_Y)) for p in parts]
-
-
-# -- lamps ----------------------------------------------------------------------------
-@register("ceiling_lamp", variants=3)
-def ceiling_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Ceiling lamp hanging from a canopy at the top: style 0 a pendant (rod, conical
-    shade, bulb), style 1 a flush mount (drum and dome; on a stem when the box is tall),
-    style 2 a chandelier (arms with candle lights)."""
-    sx, sy, sz = size
-    z0, z1 = -sz / 2, sz / 2
-    r = np.array([sx / 2, sy / 2])
-    rc = min(_clip(0.15 * min(sx, sy), 0.03, 0.08), float(r.min()))
-    ch = _clip(0.04 * sz, 0.01, 0.04, 0.1 * sz)  # canopy height
-    rod_r = _clip(0.02 * min(sx, sy), 0.003, 0.01, 0.05 * min(sx, sy))
-    parts = [Part("canopy", frustum((0.0, 0.0, z1 - ch), ch, 0.7 * rc, rc, ROUND_SEGMENTS))]
-    if style == 0:
-        bulb = min(_clip(0.15 * min(sx, sy), 0.02, 0.06), 0.15 * sz)
-        shade_h = min(0.5 * sz, 1.4 * float(r.min())) * _jitter(rng, 0.1)
-        shade_h = min(shade_h, 0.9 * (sz - ch - bulb))
-        zsb = z0 + bulb
-        parts += [
-            Part(
-                "rod",
-                _rod((0.0, 0.0, zsb + shade_h), (0.0, 0.0, z1 - ch), rod_r, extend0=0.2 * shade_h),
-            ),
-            Part(
-                "shade",
-                frustum(
-                    (0.0, 0.0, zsb), shade_h, r, r * float(rng.uniform(0.15, 0.3)), ROUND_SEGMENTS
-                ),
-            ),
-            Part(
-                "bulb",
-                ellipsoid(
-                    (0.0, 0.0, zsb + 0.3 * bulb), (bulb, bulb, 1.3 * bulb), segments=ROD_SEGMENTS
-                ),
-            ),
-        ]
-        return parts
-    if style == 1:
-        # drum and dome keep lamp-like proportions; a tall box gets a longer stem instead
-        body_h = min(0.9 * (sz - ch), 0.6 * float(min(sx, sy)))
-        drum_h = 0.4 * body_h * _jitter(rng, 0.1)
-        zd = z0 + body_h  # drum top
-        dome = ellipsoid(
-            (0.0, 0.0, zd - drum_h),
-            (r[0], r[1], zd - drum_h - z0),
-            rings=8,
-            segments=ROUND_SEGMENTS,
-        )
-        lower = dome.vertices[dome.vertices[:, 2] <= zd - drum_h + 1e-9]
-        parts += [
-            Part(
-                "rod", _rod((0.0, 0.0, zd), (0.0, 0.0, z1 - ch), 2.5 * rod_r, extend0=0.2 * drum_h)
-            ),
-            Part("drum", cylinder((0.0, 0.0, zd - drum_h / 2), r, drum_h, ROUND_SEGMENTS)),
-            Part("dome", hull(lower)),
-        ]
-        return parts
-    n_arms = int(rng.integers(5, 7))
-    cup_r = min(_clip(0.05 * min(sx, sy), 0.012, 0.03), 0.08 * sz)
-    zb = z0 + 0.3 * sz  # body centre
-    body_r = _clip(0.1 * min(sx, sy), 0.02, 0.08)
-    arm_z = zb + 0.1 * sz
-    candle_h = 0.22 * sz
-    flame = 0.8 * cup_r
-    parts += [
-        Part("rod", _rod((0.0, 0.0, zb), (0.0, 0.0, z1 - ch), rod_r)),
-        Part(
-            "body", ellipsoid((0.0, 0.0, zb), (body_r, body_r, 0.12 * sz), segments=ROUND_SEGMENTS)
-        ),
-        Part("finial", frustum((0.0, 0.0, z0), zb - z0, 0.0001, 0.5 * body_r, ROD_SEGMENTS)),
-    ]
-    for k in range(n_arms):
-        a = 2 * np.pi * k / n_arms + np.pi / 2
-        ex, ey = (r[0] - cup_r) * np.cos(a), (r[1] - cup_r) * np.sin(a)
-        parts += [
-            Part(f"arm_{k}", _rod((0.0, 0.0, zb), (ex, ey, arm_z), 0.7 * rod_r + 0.002)),
-            Part(
-                f"cup_{k}",
-                frustum((ex, ey, arm_z - 0.5 * cup_r), cup_r, 0.4 * cup_r, cup_r, ROD_SEGMENTS),
-            ),
-            Part(
-                f"candle_{k}",
-                cylinder(
-                    (ex, ey, arm_z + 0.5 * cup_r + candle_h / 2),
-                    0.4 * cup_r,
-                    candle_h,
-                    ROD_SEGMENTS,
-                ),
-            ),
-            Part(
-                f"flame_{k}",
-                ellipsoid(
-                    (ex, ey, arm_z + 0.5 * cup_r + candle_h + flame),
-                    (0.6 * flame, 0.6 * flame, flame),
-                    rings=6,
-                    segments=ROD_SEGMENTS,
-                ),
-            ),
-        ]
-    return parts
-
-
-@register("floor_lamp", variants=3)
-def floor_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Floor lamp: style 0 a disc base, pole and drum shade, style 1 a tripod with a
-    conical shade, style 2 a torchiere (an upturned bowl on a tall pole)."""
-    sx, sy, sz = size
-    z0, z1 = -sz / 2, sz / 2
-    r = np.array([sx / 2, sy / 2])
-    pole_r = _clip(0.03 * min(sx, sy), 0.008, 0.02)
-    base_t = _clip(0.02 * sz, 0.012, 0.04)
-    if style == 2:
-        bowl_h = _clip(0.12 * sz, 0.06, 0.6 * float(r.min())) * _jitter(rng, 0.1)
-        base_r = 0.6 * r * _jitter(rng, 0.1)
-        return [
-            Part("base", frustum((0.0, 0.0, z0), base_t, base_r, 0.85 * base_r, ROUND_SEGMENTS)),
-            Part("pole", _rod((0.0, 0.0, z0 + base_t), (0.0, 0.0, z1 - 0.6 * bowl_h), pole_r)),
-            Part("shade", frustum((0.0, 0.0, z1 - bowl_h), bowl_h, 0.2 * r, r, ROUND_SEGMENTS)),
-        ]
-    shade_h = _clip(0.18 * sz, 0.12, 1.2 * float(r.min())) * _jitter(rng, 0.1)
-    zsb = z1 - shade_h
-    top = float(rng.uniform(0.75, 0.9)) if style == 0 else float(rng.uniform(0.4, 0.55))
-    parts = [
-        Part("shade", frustum((0.0, 0.0, zsb), shade_h, r, top * r, ROUND_SEGMENTS)),
-        Part(
-            "finial",
-            ellipsoid(
-                (0.0, 0.0, z1 - 0.2 * shade_h), (1.5 * pole_r,) * 3, rings=6, segments=ROD_SEGMENTS
-            ),
-        ),
-    ]
-    if style == 0:
-        base_r = 0.6 * r * _jitter(rng, 0.1)
-        parts += [
-            Part("base", frustum((0.0, 0.0, z0), base_t, base_r, 0.9 * base_r, ROUND_SEGMENTS)),
-            Part("pole", _rod((0.0, 0.0, z0 + base_t), (0.0, 0.0, z1 - 0.2 * shade_h), pole_r)),
-        ]
-        return parts
-    joint = z0 + 0.4 * sz * _jitter(rng, 0.1)
-    leg_r = 0.8 * pole_r
-    parts.append(Part("pole", _rod((0.0, 0.0, joint), (0.0, 0.0, z1 - 0.2 * shade_h), pole_r)))
-    for k in range(3):
-        a = 2 * np.pi * k / 3 - np.pi / 2
-        foot = ((r[0] - leg_r) * np.cos(a), (r[1] - leg_r) * np.sin(a), z0)
-        parts.append(Part(f"leg_{k}", _rod(foot, (0.0, 0.0, joint), leg_r, extend1=pole_r)))
-    return parts
-
-
-@register("wall_lamp", variants=3)
-def wall_lamp(
-    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
-) -> list[Part]:
-    """Wall lamp (sconce) on a back plate at -y: style 0 an arm up to a cone shade open
-    upward, style 1 an arm out to a bell shade hanging down, style 2 a flush half-round
-    uplighter."""
-    sx, sy, sz = size
-    x0, y0, z0 = -size / 2
-    x1, y1, z1 = size / 2
-    bt = _clip(0.1 * sy, 0.006, 0.02, 0.2 * sy)  # back plate thickness
-    pw = _clip(0.45 * sx, 0.04, 0.12, sx)
-    arm_r = _clip(0.05 * min(sx, sy), 0.004, 0.012, 0.05 * min(sx, sy, sz))
-    if style == 2:
-        half = np.linspace(0.0, np.pi, ROUND_SEGMENTS // 2 + 1)
-        ry = sy - bt
-        shell = np.stack([(sx / 2) * np.cos(half), y0 + bt + ry * np.sin(half)], 1)
-        ph = 0.8 * sz * _jitter(rng, 0.05)
-        return [
-            Part("back_plate", box_between((-pw / 2, y0, z0), (pw / 2, y0 + bt, z1))),
-            Part("shade", prism(shell, z1 - 0.1 * sz - ph, z1 - 0.1 * sz)),
-        ]
-    ry = (sy - bt) / 2
-    r = np.array([sx / 2, ry])
-    yc = y1 - ry
-    shade_h = 0.5 * sz * _jitter(rng, 0.08)
-    ph = 0.55 * sz  # back plate height
-    if style == 0:
-        za = z0 + 0.25 * sz  # arm leaves the plate here
-        zsb = z1 - shade_h
-        return [
-            Part("back_plate", box_between((-pw / 2, y0, z0), (pw / 2, y0 + bt, z0 + ph))),
-            Part("arm", _rod((0.0, y0 + bt, za), (0.0, yc, za), arm_r, extend1=arm_r)),
-            Part("stem", _rod((0.0, yc, za), (0.0, yc, zsb + 2 * arm_r), arm_r)),
-            Part("shade", frustum((0.0, yc, zsb), shade_h, 0.3 * r, r, ROUND_SEGMENTS)),
-        ]
-    za = z1 - 0.2 * sz
-    zst = z0 + shade_h  # shade top
-    return [
-        Part("back_plate", box_between((-pw / 2, y0, z1 - ph), (pw / 2, y0 + bt, z1))),
-        Part("arm", _rod((0.0, y0 + bt, za), (0.0, yc, za), arm_r, extend1=arm_r)),
-        Part("stem", _rod((0.0, yc, za), (0.0, yc, zst - 2 * arm_r), arm_r)),
-        Part("shade", frustum((0.0, yc, z0), shade_h, r, 0.35 * r, ROUND_SEGMENTS)),
-    ]
 
 
 # -- wall objects ---------------------------------------------------------------------
@@ -1405,7 +1146,7 @@ def painting(
     x1, y1, z1 = hi
     if style == 2:
         return [Part("canvas", box_between(lo, hi))]
-    fw = _clip(0.07 * min(sx, sz), 0.01, 0.1, 0.15 * min(sx, sz)) * _jitter(rng, 0.15)
+    fw = clip(0.07 * min(sx, sz), 0.01, 0.1, 0.15 * min(sx, sz)) * jitter(rng, 0.15)
     if style == 1:
         fw *= 0.5
     recess = 0.45 * sy
@@ -1417,7 +1158,7 @@ def painting(
         )
     )
     if style == 1:
-        mw = _clip(0.08 * min(sx, sz), 0.01, 0.08, 0.15 * min(sx, sz))  # mat width
+        mw = clip(0.08 * min(sx, sz), 0.01, 0.08, 0.15 * min(sx, sz))  # mat width
         ym = (y1 - 0.15 * sy, y0)
         a0, a1 = x0 + fw, x1 - fw
         b0, b1 = z0 + fw, z1 - fw
@@ -1440,7 +1181,7 @@ def mirror(
     lo, hi = -size / 2, size / 2
     x0, y0, z0 = lo
     x1, y1, z1 = hi
-    fw = _clip(0.05 * min(sx, sz), 0.01, 0.07, 0.15 * min(sx, sz)) * _jitter(rng, 0.15)
+    fw = clip(0.05 * min(sx, sz), 0.01, 0.07, 0.15 * min(sx, sz)) * jitter(rng, 0.15)
     recess = 0.3 * sy
     if style == 0:
         parts = _frame_bars(lo, hi, fw, 0.5 * fw)
@@ -1468,7 +1209,7 @@ def mirror(
             )
         )
         return parts
-    inset = _clip(0.03 * min(sx, sz), 0.005, 0.03, 0.1 * min(sx, sz))
+    inset = clip(0.03 * min(sx, sz), 0.005, 0.03, 0.1 * min(sx, sz))
     return [
         Part(
             "backing",
@@ -1487,15 +1228,15 @@ def curtains(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    gap = _clip(0.15 * sy, 0.003, 0.04, 0.3 * sy)  # between the fabric and the wall
+    gap = clip(0.15 * sy, 0.003, 0.04, 0.3 * sy)  # between the fabric and the wall
     fab_d = sy - gap
     ym = y1 - fab_d / 2
-    rr = _clip(0.15 * fab_d, 0.005, 0.02, 0.05 * sz)
+    rr = clip(0.15 * fab_d, 0.005, 0.02, 0.05 * sz)
     fr = min(1.8 * rr, fab_d / 2, 0.05 * sx, 0.1 * sz)  # finial radius
     zr = z1 - fr
     xr0, xr1 = x0 + 2 * fr, x1 - 2 * fr
     parts = [
-        Part("rod", _rod((xr0, ym, zr), (xr1, ym, zr), rr)),
+        Part("rod", bar((xr0, ym, zr), (xr1, ym, zr), rr)),
         Part(
             "finial_left",
             ellipsoid((x0 + fr, ym, zr), (fr, fr, fr), rings=6, segments=ROD_SEGMENTS),
@@ -1504,8 +1245,8 @@ def curtains(
             "finial_right",
             ellipsoid((x1 - fr, ym, zr), (fr, fr, fr), rings=6, segments=ROD_SEGMENTS),
         ),
-        Part("bracket_left", _rod((xr0 + rr, y0, zr), (xr0 + rr, ym, zr), 0.6 * rr)),
-        Part("bracket_right", _rod((xr1 - rr, y0, zr), (xr1 - rr, ym, zr), 0.6 * rr)),
+        Part("bracket_left", bar((xr0 + rr, y0, zr), (xr0 + rr, ym, zr), 0.6 * rr)),
+        Part("bracket_right", bar((xr1 - rr, y0, zr), (xr1 - rr, ym, zr), 0.6 * rr)),
     ]
     width = xr1 - xr0
     if style == 0:
@@ -1518,11 +1259,11 @@ def curtains(
     pz = (z0, zr)  # fabric hangs from the rod's axis down to the floor
     parts += _named(
         "panel_left",
-        _pleats(xr0, xr0 + panel, ym, fab_d, *pz, pitch * _jitter(rng, 0.1), per_panel),
+        _pleats(xr0, xr0 + panel, ym, fab_d, *pz, pitch * jitter(rng, 0.1), per_panel),
     )
     parts += _named(
         "panel_right",
-        _pleats(xr1 - panel, xr1, ym, fab_d, *pz, pitch * _jitter(rng, 0.1), per_panel),
+        _pleats(xr1 - panel, xr1, ym, fab_d, *pz, pitch * jitter(rng, 0.1), per_panel),
     )
     return parts
 
@@ -1536,14 +1277,14 @@ def blinds(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    rail_h = _clip(0.12 * sz, 0.01, 0.05, 0.2 * sz)
+    rail_h = clip(0.12 * sz, 0.01, 0.05, 0.2 * sz)
     zr = z1 - rail_h
     parts = [Part("head_rail", box_between((x0, y0, zr), (x1, y1, z1)))]
     if style == 0:
         tilt = np.radians(rng.uniform(10.0, 35.0))
-        t = _clip(0.08 * sy, 0.001, 0.003)
+        t = clip(0.08 * sy, 0.001, 0.003)
         w = max((0.9 * sy - t * np.sin(tilt)) / np.cos(tilt), 2 * t)
-        bottom_h = _clip(0.06 * sz, 0.006, 0.02)
+        bottom_h = clip(0.06 * sz, 0.006, 0.02)
         span = zr - (z0 + bottom_h)
         n = int(np.clip(span // BLIND_SLAT_PITCH_M, 2, MAX_REPEATS))
         rot = np.array(
@@ -1564,10 +1305,10 @@ def blinds(
                 )
             )
         cr = min(0.002, 0.05 * sy)
-        cx = x1 - _clip(0.05 * sx, 0.01, 0.05)
+        cx = x1 - clip(0.05 * sx, 0.01, 0.05)
         cz = z0 + 0.35 * sz
         parts += [
-            Part("cord", _rod((cx, y1 - 2 * cr, zr), (cx, y1 - 2 * cr, cz), cr)),
+            Part("cord", bar((cx, y1 - 2 * cr, zr), (cx, y1 - 2 * cr, cz), cr)),
             Part(
                 "cord_tassel",
                 ellipsoid(
@@ -1579,10 +1320,10 @@ def blinds(
     if style == 1:
         n = int(np.clip(round(sx / BLIND_VANE_PITCH_M), 2, MAX_REPEATS))
         pitch = sx / n
-        t = _clip(0.05 * sy, 0.001, 0.003)
+        t = clip(0.05 * sy, 0.001, 0.003)
         vw = 1.05 * pitch
         turn = np.arcsin(np.clip((0.9 * sy - t) / vw, 0.0, np.sin(np.radians(70.0))))
-        turn *= _jitter(rng, 0.1)
+        turn *= jitter(rng, 0.1)
         rot = np.array(
             [[np.cos(turn), -np.sin(turn), 0.0], [np.sin(turn), np.cos(turn), 0.0], [0.0, 0.0, 1.0]]
         )
@@ -1591,7 +1332,7 @@ def blinds(
             parts.append(Part(f"vane_{k}", box((xk, 0.0, (z0 + zr) / 2), (vw, t, zr - z0), rot)))
         return parts
     tube_r = min(0.45 * sy, 0.45 * rail_h, 0.03, 0.1 * sz)
-    fabric_t = _clip(0.05 * sy, 0.0008, 0.002)
+    fabric_t = clip(0.05 * sy, 0.0008, 0.002)
     bar_r = min(0.3 * sy, 0.012, 0.1 * sz)
     drop = (zr - z0) * float(rng.uniform(0.55, 1.0))  # how far the blind is pulled down
     zf = zr - drop
@@ -1613,7 +1354,7 @@ def blinds(
         ),
         Part(
             "chain",
-            _rod(
+            bar(
                 (x1 - 0.02 * sx, y1 - 0.002, zr),
                 (x1 - 0.02 * sx, y1 - 0.002, z0),
                 min(0.002, 0.05 * sy),
@@ -1633,8 +1374,8 @@ def house_plant(
     sx, sy, sz = size
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
-    rt = 0.3 * min(sx, sy) * _jitter(rng, 0.08)  # pot top radius
-    ph = _clip(0.3 * sz, 0.05, 3 * rt, 0.4 * sz) * _jitter(rng, 0.1)  # pot height
+    rt = 0.3 * min(sx, sy) * jitter(rng, 0.08)  # pot top radius
+    ph = clip(0.3 * sz, 0.05, 3 * rt, 0.4 * sz) * jitter(rng, 0.1)  # pot height
     soil = z0 + ph
     rim_h = 0.15 * ph
     parts = [
@@ -1671,19 +1412,19 @@ def house_plant(
             )
             parts.append(Part(f"leaf_{k}", leaf.transformed(rot, start + d * length / 2)))
         return parts
-    stem_r = _clip(0.01 * min(sx, sy), 0.003, 0.01)
+    stem_r = clip(0.01 * min(sx, sy), 0.003, 0.01)
     if style == 1:
         # a standard tree: trunk, a ring of four leaf balls touching the box sides, one on top
         crown_z = soil + 0.6 * fh
-        trunk_r = _clip(0.03 * min(sx, sy), 0.006, 0.03)
-        parts.append(Part("trunk", _rod((0.0, 0.0, soil - 0.01), (0.0, 0.0, crown_z), trunk_r)))
-        top = np.array([0.32 * sx, 0.32 * sy, 0.22 * fh]) * _jitter(rng, 0.08)
+        trunk_r = clip(0.03 * min(sx, sy), 0.006, 0.03)
+        parts.append(Part("trunk", bar((0.0, 0.0, soil - 0.01), (0.0, 0.0, crown_z), trunk_r)))
+        top = np.array([0.32 * sx, 0.32 * sy, 0.22 * fh]) * jitter(rng, 0.08)
         parts.append(
             Part("crown_top", ellipsoid((0.0, 0.0, z1 - top[2]), top, segments=ROUND_SEGMENTS))
         )
         for k in range(4):
             a = k * np.pi / 2 + rng.uniform(-0.1, 0.1)
-            rk = np.array([0.27 * sx, 0.27 * sy, 0.17 * fh]) * _jitter(rng, 0.1)
+            rk = np.array([0.27 * sx, 0.27 * sy, 0.17 * fh]) * jitter(rng, 0.1)
             c = (
                 (half[0] - rk[0]) * np.cos(a),
                 (half[1] - rk[1]) * np.sin(a),
@@ -1718,7 +1459,7 @@ def house_plant(
         leaf = ellipsoid(
             (0.0, 0.0, 0.0), (leaf_w / 2, 0.06 * leaf_w, length / 2), rings=6, segments=ROD_SEGMENTS
         )
-        parts.append(Part(f"stem_{k}", _rod((0.0, 0.0, soil - 0.01), stalk, stem_r)))
+        parts.append(Part(f"stem_{k}", bar((0.0, 0.0, soil - 0.01), stalk, stem_r)))
         parts.append(Part(f"leaf_{k}", leaf.transformed(rot, stalk + d * length / 2)))
     return parts
 
@@ -1733,15 +1474,15 @@ def vacuum_cleaner(
     x0, y0, z0 = -size / 2
     x1, y1, z1 = size / 2
     if style == 0:
-        head_d = 0.5 * sy * _jitter(rng, 0.08)
-        head_h = _clip(0.08 * sz, 0.03, 0.1, 0.15 * sz)
-        wr = _clip(0.08 * sz, 0.025, 0.07, 0.15 * sz)  # rear wheel radius
-        ww = _clip(0.08 * sx, 0.015, 0.04, 0.15 * sx)
+        head_d = 0.5 * sy * jitter(rng, 0.08)
+        head_h = clip(0.08 * sz, 0.03, 0.1, 0.15 * sz)
+        wr = clip(0.08 * sz, 0.025, 0.07, 0.15 * sz)  # rear wheel radius
+        ww = clip(0.08 * sx, 0.015, 0.04, 0.15 * sx)
         bw = sx - 2 * ww  # body width between the wheels
         bd = 0.6 * sy
         yb = y0 + bd / 2
         body_top = z0 + 0.62 * sz
-        grip_r = _clip(0.02 * sz, 0.01, 0.02, 0.05 * sz)
+        grip_r = clip(0.02 * sz, 0.01, 0.02, 0.05 * sz)
         wedge = np.array(
             [
                 [x0, y1 - head_d, z0],
@@ -1780,36 +1521,38 @@ def vacuum_cleaner(
             ),
             Part(
                 "handle",
-                _rod(
+                bar(
                     (0.0, yb, body_top - 0.02),
                     (0.0, yb - 0.1 * bd, z1 - 2 * grip_r),
-                    _clip(0.012 * sz, 0.008, 0.015, 0.04 * sz),
+                    clip(0.012 * sz, 0.008, 0.015, 0.04 * sz),
                 ),
             ),
             Part(
                 "grip",
-                _rod(
+                bar(
                     (-0.25 * sx, yb - 0.1 * bd, z1 - grip_r),
                     (0.25 * sx, yb - 0.1 * bd, z1 - grip_r),
                     grip_r,
                 ),
             ),
         ]
-    bh = _clip(0.25 * sz, 0.15, 0.3)  # body height
+    bh = clip(0.25 * sz, 0.15, 0.3)  # body height
     wand = sz > 2.2 * bh  # room to park the wand upright; else the hose loops over the body
     if not wand:
         bh = 0.75 * sz
-    nozzle_h = _clip(0.05 * sz, 0.02, 0.05)
+    nozzle_h = clip(0.05 * sz, 0.02, 0.05)
     nozzle_d = min(0.3 * sy, 0.1)
-    ww = _clip(0.08 * sx, 0.015, 0.04, 0.15 * sx)
+    ww = clip(0.08 * sx, 0.015, 0.04, 0.15 * sx)
     bd = sy - nozzle_d
     yb = y0 + bd / 2
     wr = 0.32 * bh
-    hose_r = _clip(0.04 * bh, 0.01, 0.02)
+    hose_r = clip(0.04 * bh, 0.01, 0.02)
     rb = np.array([sx / 2 - ww, bd / 2])
     zs = np.array([0.04, 0.35, 0.75, 1.0]) * bh + z0
     parts = [
-        Part("body", _lathe(0.0, yb, zs, [0.85 * rb, rb, 0.88 * rb, 0.5 * rb])),
+        Part(
+            "body", lathe(zip((0.85, 1.0, 0.88, 0.5), zs), rb[0], rb[1], ROUND_SEGMENTS, (0.0, yb))
+        ),
         Part(
             "wheel_left", cylinder((x0 + ww / 2, y0 + wr, z0 + wr), wr, ww, ROUND_SEGMENTS, _Z_TO_X)
         ),
@@ -1826,7 +1569,7 @@ def vacuum_cleaner(
             Part(
                 "nozzle", box_between((-0.4 * sx, y1 - nozzle_d, z0), (0.4 * sx, y1, z0 + nozzle_h))
             ),
-            Part("wand", _rod((0.0, yw, z0 + nozzle_h), grip, hose_r)),
+            Part("wand", bar((0.0, yw, z0 + nozzle_h), grip, hose_r)),
         ]
         sag = np.array([0.0, yb, z0 + bh + 0.3 * (z1 - z0 - bh)])
     else:

@@ -26,6 +26,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from pair2scene.assets.generators.shapes import (
+    FINE_SEGMENTS,
+    ROD_SEGMENTS,
+    ROUND_SEGMENTS,
+    clip,
+)
 from pair2scene.assets.mesh import (
     Mesh,
     Part,
@@ -43,12 +49,6 @@ from pair2scene.scene.geometry import rot_x as _rot_x
 from pair2scene.scene.geometry import rot_y as _rot_y
 from pair2scene.scene.geometry import rot_z as _rot_z
 
-ROUND_SEGMENTS = 12
-"""Sides of a round part on a small object: reads as round at 256 px, cheap to build."""
-FINE_SEGMENTS = 16
-"""Sides of a large round part that dominates the silhouette (a shade, a ball, a roll)."""
-ROD_SEGMENTS = 8
-"""Sides of a thin rod (a handle, a stem, piping): its roundness is not visible."""
 ELL_RINGS = 6
 """Latitude rings of a small ellipsoid (a teddy's ear, a lump on a bag)."""
 
@@ -109,7 +109,9 @@ def _rounded_rect(w: float, d: float, r: float, arc: int = 3) -> np.ndarray:
     return np.concatenate(pts)
 
 
-def _slab(center: Sequence[float], w: float, d: float, h: float, r: float, arc: int = 3) -> Mesh:
+def _rounded_block(
+    center: Sequence[float], w: float, d: float, h: float, r: float, arc: int = 3
+) -> Mesh:
     """Rounded-corner slab: centre (3,), width w (x), depth d (y), height h (z)."""
     c = np.asarray(center, dtype=float)
     poly = _rounded_rect(w, d, r, arc) + c[:2]
@@ -173,12 +175,6 @@ def _scaled(parts: list[Part], scale: Sequence[float]) -> list[Part]:
     return [Part(p.name, p.mesh.scaled(scale)) for p in parts]
 
 
-def _clip(x: float, lo: float, hi: float) -> float:
-    """x clamped to [lo, hi]; when the box is too small for ``lo``, ``hi`` (usually a share
-    of the box) wins, so parts never outgrow the box."""
-    return float(min(max(x, lo), hi))
-
-
 _FLAT_X_LONG = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
 """Canonical x -> local -y, canonical y -> local x: a lengthwise canonical object along x."""
 _UPRIGHT = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
@@ -217,7 +213,7 @@ def _display(
 ) -> list[Part]:
     """A flat display between the given x, y, z limits: housing plus a screen on its +y face
     inset by ``bezel`` (and a wider ``chin`` at the bottom). Returns [panel, screen]."""
-    st = _clip(0.12 * (y1 - y0), 0.0008, 0.004)  # screen glass proud of the bezel
+    st = clip(0.12 * (y1 - y0), 0.0008, 0.004)  # screen glass proud of the bezel
     panel = box_between((x0, y0, z0), (x1, y1 - st, z1))
     screen = box_between(
         (x0 + bezel, y1 - st - 1e-4, z0 + bezel + chin), (x1 - bezel, y1, z1 - bezel)
@@ -239,11 +235,11 @@ def television(size, rng, style, support_heights):
     """Flat-screen TV facing +y: on a pedestal (0), on two feet (1) or wall-mounted (2)."""
     sx, sy, sz = size
     hx, hy, hz = size / 2
-    bezel = _clip(0.012 * min(sx, sz), 0.004, 0.025)
+    bezel = clip(0.012 * min(sx, sz), 0.004, 0.025)
     parts: list[Part] = []
     if style == 2:
         # wall-mounted: the panel at the front of the box, a bracket behind it to the wall
-        pd = _clip(0.45 * sy, 0.012, 0.07)
+        pd = clip(0.45 * sy, 0.012, 0.07)
         parts += _display(-hx, hx, hy - pd, hy, -hz, hz, bezel)
         bw, bh = 0.3 * sx, 0.35 * sz
         parts.append(
@@ -253,9 +249,9 @@ def television(size, rng, style, support_heights):
             )
         )
         return parts
-    pd = min(_clip(0.22 * sy, 0.012, 0.07), 0.5 * sy)
-    foot_h = _clip(0.025 * sz, 0.006, 0.025)
-    lift = _clip(0.07 * sz * rng.uniform(0.8, 1.2), 0.02, 0.12)
+    pd = min(clip(0.22 * sy, 0.012, 0.07), 0.5 * sy)
+    foot_h = clip(0.025 * sz, 0.006, 0.025)
+    lift = clip(0.07 * sz * rng.uniform(0.8, 1.2), 0.02, 0.12)
     z0 = -hz + foot_h + lift
     y0, y1 = -pd / 2, pd / 2
     parts += _display(-hx, hx, y0, y1, z0, hz, bezel)
@@ -269,11 +265,13 @@ def television(size, rng, style, support_heights):
         )
     )
     if style == 0:
-        fw = _clip(0.38 * sx * rng.uniform(0.9, 1.1), 0.08, sx)
+        fw = clip(0.38 * sx * rng.uniform(0.9, 1.1), 0.08, sx)
         parts.append(
-            Part("foot", _slab((0, 0, -hz + foot_h / 2), fw, sy, foot_h, 0.2 * min(fw, sy)))
+            Part(
+                "foot", _rounded_block((0, 0, -hz + foot_h / 2), fw, sy, foot_h, 0.2 * min(fw, sy))
+            )
         )
-        nw, nd = _clip(0.08 * sx, 0.02, 0.12), _clip(0.5 * pd, 0.008, 0.04)
+        nw, nd = clip(0.08 * sx, 0.02, 0.12), clip(0.5 * pd, 0.008, 0.04)
         parts.append(
             Part(
                 "neck",
@@ -284,8 +282,8 @@ def television(size, rng, style, support_heights):
             )
         )
     else:
-        fx = hx - _clip(0.1 * sx, 0.03, 0.2)
-        fw = _clip(0.02 * sx, 0.008, 0.03)
+        fx = hx - clip(0.1 * sx, 0.03, 0.2)
+        fw = clip(0.02 * sx, 0.008, 0.03)
         for i, cx in enumerate((-fx, fx)):
             pts = [
                 (cx + sxx * fw / 2, y, z)
@@ -307,13 +305,13 @@ def monitor(size, rng, style, support_heights):
     foot (1)."""
     sx, sy, sz = size
     hx, hy, hz = size / 2
-    pd = min(_clip(0.2 * sy, 0.008, 0.05), 0.4 * sy)
-    foot_h = _clip(0.03 * sz, 0.005, 0.02)
-    lift = _clip(0.16 * sz * rng.uniform(0.85, 1.15), 0.03, 0.15)
+    pd = min(clip(0.2 * sy, 0.008, 0.05), 0.4 * sy)
+    foot_h = clip(0.03 * sz, 0.005, 0.02)
+    lift = clip(0.16 * sz * rng.uniform(0.85, 1.15), 0.03, 0.15)
     z0 = -hz + foot_h + lift
-    y1 = hy - _clip(0.12 * sy, 0.0, 0.04) if style == 0 else hy - 0.05 * sy
+    y1 = hy - clip(0.12 * sy, 0.0, 0.04) if style == 0 else hy - 0.05 * sy
     y0 = y1 - pd
-    bezel = _clip(0.02 * min(sx, sz), 0.004, 0.02)
+    bezel = clip(0.02 * min(sx, sz), 0.004, 0.02)
     parts = _display(-hx, hx, y0, y1, z0, hz, bezel)
     parts.append(
         Part(
@@ -328,11 +326,13 @@ def monitor(size, rng, style, support_heights):
         )
     )
     if style == 0:
-        fw = _clip(0.4 * sx, 0.06, sx)
+        fw = clip(0.4 * sx, 0.06, sx)
         parts.append(
-            Part("foot", _slab((0, 0, -hz + foot_h / 2), fw, sy, foot_h, 0.15 * min(fw, sy)))
+            Part(
+                "foot", _rounded_block((0, 0, -hz + foot_h / 2), fw, sy, foot_h, 0.15 * min(fw, sy))
+            )
         )
-        nw, nd = _clip(0.1 * sx, 0.02, 0.08), _clip(0.12 * sy, 0.008, 0.03)
+        nw, nd = clip(0.1 * sx, 0.02, 0.08), clip(0.12 * sy, 0.008, 0.03)
         yb = y0 - 0.5 * min(0.7 * pd, 0.5 * (y0 + hy))
         parts.append(
             Part(
@@ -343,9 +343,9 @@ def monitor(size, rng, style, support_heights):
             )
         )
     else:
-        rx, ry = _clip(0.2 * sx, 0.05, hx), hy
+        rx, ry = clip(0.2 * sx, 0.05, hx), hy
         parts.append(Part("foot", _cyl_z((0, 0, -hz + foot_h / 2), rx, ry, foot_h, FINE_SEGMENTS)))
-        r = _clip(0.025 * sz, 0.006, 0.02)
+        r = clip(0.025 * sz, 0.006, 0.02)
         top = (0.0, y0 - r, z0 + 0.5 * (hz - z0))
         parts.append(
             Part("arm", _rod((0.0, -0.55 * hy, -hz + foot_h), top, r, segments=ROUND_SEGMENTS))
@@ -389,15 +389,17 @@ def keyboard(size, rng, style, support_heights):
     keys (0) or a wedge full-size board whose key rows are split into blocks (1)."""
     sx, sy, sz = size
     hx, hy, hz = size / 2
-    key_h = _clip(0.3 * sz, 0.0008, 0.008)
-    margin = _clip(0.05 * min(sx, sy), 0.003, 0.015)
-    gap = _clip(0.15 * (sy - 2 * margin) / 5, 0.0005, 0.003)
+    key_h = clip(0.3 * sz, 0.0008, 0.008)
+    margin = clip(0.05 * min(sx, sy), 0.003, 0.015)
+    gap = clip(0.15 * (sy - 2 * margin) / 5, 0.0005, 0.003)
     if style == 0:
         deck = hz - key_h
         parts = [
             Part(
                 "base",
-                _slab((0, 0, (deck - hz) / 2), sx, sy, deck + hz, _clip(0.08 * sy, 0.002, 0.012)),
+                _rounded_block(
+                    (0, 0, (deck - hz) / 2), sx, sy, deck + hz, clip(0.08 * sy, 0.002, 0.012)
+                ),
             )
         ]
         n = int(rng.integers(10, 13))
@@ -463,8 +465,8 @@ def laptop(size, rng, style, support_heights):
     back with its screen facing +y; key rows as strips (0) or single keys (1)."""
     sx, sy, sz = size
     hx, hy, hz = size / 2
-    bt = _clip(0.06 * sz, 0.005, 0.025)  # base thickness
-    lt = _clip(0.5 * bt, 0.003, 0.01)  # lid thickness
+    bt = clip(0.06 * sz, 0.005, 0.025)  # base thickness
+    lt = clip(0.5 * bt, 0.003, 0.01)  # lid thickness
     tilt = np.radians(rng.uniform(12.0, 22.0))  # lid leans back from vertical
     lid_len = (sz - bt) / np.cos(tilt)
     # the lid leans over the back of the box; keep at least 45 % of the depth for the base
@@ -476,8 +478,8 @@ def laptop(size, rng, style, support_heights):
     parts = [
         Part(
             "base",
-            _slab(
-                (0, hy - base_d / 2, -hz + bt / 2), sx, base_d, bt, _clip(0.03 * sx, 0.002, 0.015)
+            _rounded_block(
+                (0, hy - base_d / 2, -hz + bt / 2), sx, base_d, bt, clip(0.03 * sx, 0.002, 0.015)
             ),
         )
     ]
@@ -486,7 +488,7 @@ def laptop(size, rng, style, support_heights):
     hinge = np.array([0.0, yb0, ztop])
     lid_c = hinge + up * lid_len / 2 - normal * lt / 2
     parts.append(Part("lid", box(lid_c, (sx, lt, lid_len), rot)))
-    bezel = _clip(0.04 * min(sx, lid_len), 0.004, 0.02)
+    bezel = clip(0.04 * min(sx, lid_len), 0.004, 0.02)
     st = 0.3 * lt
     scr_c = hinge + up * (lid_len / 2 + 0.5 * bezel) + normal * st / 2
     parts.append(Part("screen", box(scr_c, (sx - 2 * bezel, st, lid_len - 3 * bezel), rot)))
@@ -499,10 +501,10 @@ def laptop(size, rng, style, support_heights):
         )
     )
     # keyboard area on the back 55 % of the deck, touchpad centred in front of it
-    key_h = _clip(0.15 * bt, 0.0005, 0.002)
-    mx = _clip(0.06 * sx, 0.008, 0.03)
+    key_h = clip(0.15 * bt, 0.0005, 0.002)
+    mx = clip(0.06 * sx, 0.008, 0.03)
     ky0, ky1 = yb0 + 0.08 * base_d, yb0 + 0.58 * base_d
-    gap = _clip(0.012 * base_d, 0.0005, 0.003)
+    gap = clip(0.012 * base_d, 0.0005, 0.003)
     if style == 0:
         n_rows = 5
         pitch = (ky1 - ky0) / n_rows
@@ -521,7 +523,7 @@ def laptop(size, rng, style, support_heights):
     else:
         n = int(rng.integers(10, 13))  # at most 56 parts
         parts += _key_grid(-hx + mx, hx - mx, ky0, ky1, ztop, key_h, [3] + [n] * 4, gap)
-    tw, td = _clip(0.3 * sx, 0.03, 0.14), 0.28 * base_d
+    tw, td = clip(0.3 * sx, 0.03, 0.14), 0.28 * base_d
     ty1 = ky1 + 0.06 * base_d
     parts.append(
         Part(
@@ -540,9 +542,9 @@ def desktop_computer(size, rng, style, support_heights):
     hx, hy, hz = size / 2
     parts: list[Part] = []
     if style == 0:
-        tw = _clip(0.22 * sx * rng.uniform(0.9, 1.1), 0.06, 0.25)
-        th = _clip(rng.uniform(0.75, 0.95) * sz, 0.0, sz)
-        gap = _clip(0.04 * sx, 0.01, 0.08)
+        tw = clip(0.22 * sx * rng.uniform(0.9, 1.1), 0.06, 0.25)
+        th = clip(rng.uniform(0.75, 0.95) * sz, 0.0, sz)
+        gap = clip(0.04 * sx, 0.01, 0.08)
         tx0 = hx - tw
         parts.append(Part("tower", box_between((tx0, -hy, -hz), (hx, hy - 0.012 * sy, -hz + th))))
         inset = 0.08 * tw
@@ -574,19 +576,21 @@ def desktop_computer(size, rng, style, support_heights):
         )
         mx0, mx1 = -hx, tx0 - gap
         mw, mc = mx1 - mx0, (mx0 + mx1) / 2
-        pd = _clip(0.15 * sy, 0.008, 0.04)
-        foot_h = _clip(0.03 * sz, 0.005, 0.02)
-        z0 = -hz + foot_h + _clip(0.15 * sz, 0.03, 0.14)
+        pd = clip(0.15 * sy, 0.008, 0.04)
+        foot_h = clip(0.03 * sz, 0.005, 0.02)
+        z0 = -hz + foot_h + clip(0.15 * sz, 0.03, 0.14)
         y1 = 0.15 * sy
-        parts += _display(mx0, mx1, y1 - pd, y1, z0, hz, _clip(0.02 * mw, 0.004, 0.02))
-        fw = _clip(0.4 * mw, 0.06, mw)
+        parts += _display(mx0, mx1, y1 - pd, y1, z0, hz, clip(0.02 * mw, 0.004, 0.02))
+        fw = clip(0.4 * mw, 0.06, mw)
         parts.append(
             Part(
                 "foot",
-                _slab((mc, -0.05 * sy, -hz + foot_h / 2), fw, 0.8 * sy, foot_h, 0.15 * min(fw, sy)),
+                _rounded_block(
+                    (mc, -0.05 * sy, -hz + foot_h / 2), fw, 0.8 * sy, foot_h, 0.15 * min(fw, sy)
+                ),
             )
         )
-        nw = _clip(0.1 * mw, 0.02, 0.07)
+        nw = clip(0.1 * mw, 0.02, 0.07)
         parts.append(
             Part(
                 "neck",
@@ -598,11 +602,14 @@ def desktop_computer(size, rng, style, support_heights):
         )
         return parts
     # all-in-one: keyboard and mouse take the front of the box
-    kd = _clip(0.35 * sy, 0.05, 0.2)
-    kt = _clip(0.04 * sz, 0.008, 0.025)
+    kd = clip(0.35 * sy, 0.05, 0.2)
+    kt = clip(0.04 * sz, 0.008, 0.025)
     kw = 0.62 * sx
     parts.append(
-        Part("keyboard", _slab((-0.08 * sx, hy - kd / 2, -hz + kt / 2), kw, kd, kt, 0.05 * kd))
+        Part(
+            "keyboard",
+            _rounded_block((-0.08 * sx, hy - kd / 2, -hz + kt / 2), kw, kd, kt, 0.05 * kd),
+        )
     )
     for r in range(4):
         ya = hy - kd + (0.1 + 0.2 * r) * kd
@@ -621,18 +628,18 @@ def desktop_computer(size, rng, style, support_heights):
             "mouse",
             _ell(
                 (0.36 * sx, hy - 0.5 * kd, -hz + mouse_h / 2),
-                (_clip(0.035 * sx, 0.02, 0.035), _clip(0.3 * kd, 0.03, 0.06), mouse_h / 2),
+                (clip(0.035 * sx, 0.02, 0.035), clip(0.3 * kd, 0.03, 0.06), mouse_h / 2),
             ),
         )
     )
-    foot_h = _clip(0.02 * sz, 0.004, 0.015)
+    foot_h = clip(0.02 * sz, 0.004, 0.015)
     sy_m = sy - kd - 0.02 * sy  # the monitor's depth budget
-    pd = _clip(0.2 * sy_m, 0.01, 0.05)
+    pd = clip(0.2 * sy_m, 0.01, 0.05)
     y1 = -hy + 0.75 * sy_m
-    z0 = -hz + _clip(0.18 * sz, 0.05, 0.15)
+    z0 = -hz + clip(0.18 * sz, 0.05, 0.15)
     chin = 0.12 * (hz - z0)
-    parts += _display(-hx, hx, y1 - pd, y1, z0, hz, _clip(0.015 * sx, 0.004, 0.015), chin)
-    fw = _clip(0.3 * sx, 0.08, sx)
+    parts += _display(-hx, hx, y1 - pd, y1, z0, hz, clip(0.015 * sx, 0.004, 0.015), chin)
+    fw = clip(0.3 * sx, 0.08, sx)
     parts.append(
         Part("foot", box_between((-fw / 2, -hy, -hz), (fw / 2, y1 - pd * 0.5, -hz + foot_h)))
     )
@@ -651,106 +658,7 @@ def desktop_computer(size, rng, style, support_heights):
     return parts
 
 
-# -- lamp, book, pillow, box, statue, clock, tissues, teddy ---------------------------------
-@register("table_lamp", variants=3)
-def table_lamp(size, rng, style, support_heights):
-    """Table lamp: round base, bulbous body and tapered shade (0); square base, thin stem and
-    drum shade (1); or an articulated desk lamp whose head shines down toward +y (2)."""
-    sx, sy, sz = size
-    hx, hy, hz = size / 2
-    parts: list[Part] = []
-    if style in (0, 1):
-        shade_h = sz * rng.uniform(0.34, 0.42)
-        shade_z0 = hz - shade_h
-        stem_r = _clip(0.025 * min(sx, sy), 0.003, 0.012)
-        if style == 0:
-            base_h = _clip(0.04 * sz, 0.004, 0.03)
-            parts.append(
-                Part(
-                    "base",
-                    _cyl_z((0, 0, -hz + base_h / 2), 0.5 * hx, 0.5 * hy, base_h, FINE_SEGMENTS),
-                )
-            )
-            body_h = sz * rng.uniform(0.3, 0.38)
-            bz = -hz + base_h + body_h / 2
-            parts.append(
-                Part(
-                    "body",
-                    _ell(
-                        (0, 0, bz),
-                        (0.36 * hx, 0.36 * hy, body_h / 2),
-                        rings=8,
-                        segments=FINE_SEGMENTS,
-                    ),
-                )
-            )
-            stem_z0 = bz + 0.4 * body_h
-            shade = frustum(
-                (0, 0, shade_z0), shade_h, (hx, hy), (0.62 * hx, 0.62 * hy), FINE_SEGMENTS
-            )
-        else:
-            base_h = _clip(0.06 * sz, 0.006, 0.04)
-            bw = 0.6 * min(sx, sy)
-            parts.append(
-                Part(
-                    "base",
-                    box_between(
-                        (-bw / 2, -bw / 2 * sy / max(sx, sy), -hz),
-                        (bw / 2, bw / 2 * sy / max(sx, sy), -hz + base_h),
-                    ),
-                )
-            )
-            stem_z0 = -hz + base_h - 1e-4
-            shade = _cyl_z((0, 0, shade_z0 + shade_h / 2), hx, hy, shade_h, FINE_SEGMENTS)
-            sock_r = 2.2 * stem_r  # the bulb socket just under the shade
-            parts.append(Part("socket", _cyl_z((0, 0, shade_z0), sock_r, sock_r, 0.12 * shade_h)))
-        parts.append(
-            Part(
-                "stem",
-                _cyl_z(
-                    (0, 0, 0.5 * (stem_z0 + shade_z0 + 0.3 * shade_h)),
-                    stem_r,
-                    stem_r,
-                    shade_z0 + 0.3 * shade_h - stem_z0,
-                    ROD_SEGMENTS,
-                ),
-            )
-        )
-        parts.append(Part("shade", shade))
-        return parts
-    # articulated desk lamp: base at the back, elbow high, head over the front
-    base_h = _clip(0.05 * sz, 0.006, 0.03)
-    rb = min(hx, 0.32 * sy)
-    by = -hy + rb
-    # an oval base as wide as the box: a wide box gets a wide lamp, not a stretched one
-    parts.append(Part("base", _cyl_z((0, by, -hz + base_h / 2), hx, rb, base_h, FINE_SEGMENTS)))
-    arm_r = _clip(0.02 * min(sx, sy, sz), 0.003, 0.01)
-    head_r = min(hx, 0.28 * sy)
-    head_len = 1.4 * head_r
-    direction = np.array([0.0, 0.45, -1.0])
-    direction /= np.linalg.norm(direction)
-    joint = np.array([0.0, hy - 1.1 * head_r, hz - 0.35 * head_r])
-    elbow = np.array([0.0, by + rng.uniform(-0.1, 0.1) * sy, hz - arm_r * 1.5])
-    foot = np.array([0.0, by, -hz + base_h])
-    parts.append(Part("lower_arm", _rod(foot, elbow, arm_r)))
-    parts.append(Part("upper_arm", _rod(elbow, joint, arm_r)))
-    parts.append(Part("elbow", _ell(elbow, (1.6 * arm_r,) * 3)))
-    parts.append(Part("base_joint", _ell(foot, (2.0 * arm_r,) * 3)))
-    parts.append(
-        Part(
-            "head",
-            _rod(
-                joint - 0.15 * head_len * direction,
-                joint + head_len * direction,
-                0.35 * head_r,
-                head_r,
-                FINE_SEGMENTS,
-            ),
-        )
-    )
-    return parts
-
-
+# -- book, pillow, box, statue, clock, tissues, teddy ---------------------------------
 _STAND_BOOK = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 """Canonical flat book (spine at -x, pages along y, thickness z) -> standing: the spine
 faces +y, the page height runs up z, the thickness along x."""
@@ -765,9 +673,9 @@ def book(size, rng, style, support_heights):
     w, d, t = (size[1], size[2], size[0]) if standing else size
     hw, hd, ht = w / 2, d / 2, t / 2
     if style == 0:
-        ct = _clip(0.08 * t, 0.0008, 0.003)
-        over = _clip(0.02 * min(w, d), 0.001, 0.004) * rng.uniform(0.8, 1.2)
-        rx = _clip(0.2 * t, 0.001, 0.1 * w)
+        ct = clip(0.08 * t, 0.0008, 0.003)
+        over = clip(0.02 * min(w, d), 0.001, 0.004) * rng.uniform(0.8, 1.2)
+        rx = clip(0.2 * t, 0.001, 0.1 * w)
         parts = [
             Part("spine", _cyl_y((-hw + rx, 0, 0), rx, ht, d, ROUND_SEGMENTS)),
             Part("back_cover", box_between((-hw + rx, -hd, -ht), (hw, hd, -ht + ct))),
@@ -780,8 +688,8 @@ def book(size, rng, style, support_heights):
             ),
         ]
     else:
-        ct = _clip(0.03 * t, 0.0004, 0.0012)
-        inset = _clip(0.01 * min(w, d), 0.0005, 0.002) * rng.uniform(0.8, 1.2)
+        ct = clip(0.03 * t, 0.0004, 0.0012)
+        inset = clip(0.01 * min(w, d), 0.0005, 0.002) * rng.uniform(0.8, 1.2)
         parts = [
             Part("spine", box_between((-hw, -hd, -ht), (-hw + ct, hd, ht))),
             Part("back_cover", box_between((-hw, -hd, -ht), (hw, hd, -ht + ct))),
@@ -822,7 +730,7 @@ def pillow(size, rng, style, support_heights):
     standing = size[2] > size[1]
     w, d, t = (size[0], size[2], size[1]) if standing else size
     a, b, ht = w / 2, d / 2, t / 2
-    pr = _clip(0.05 * t, 0.0015, 0.008)
+    pr = clip(0.05 * t, 0.0015, 0.008)
     puff = rng.uniform(0.6, 1.0)
     parts: list[Part] = []
     if style in (0, 1):
@@ -831,7 +739,7 @@ def pillow(size, rng, style, support_heights):
         seam = np.c_[_superellipse(a - pr, b - pr, 16, p), np.zeros(16)]
         parts += [Part(f"piping_{i}", m) for i, m in enumerate(_loop_rods(seam, pr))]
         if style == 1:
-            br = _clip(0.05 * min(w, d), 0.004, 0.02)
+            br = clip(0.05 * min(w, d), 0.004, 0.02)
             parts.append(Part("button", _ell((0, 0, ht - 0.3 * br), (br, br, 0.5 * br))))
     else:
         cap = 0.06 * w
@@ -863,8 +771,8 @@ def cardboard_box(size, rng, style, support_heights):
     sx, sy, sz = size
     hx, hy, hz = size / 2
     if style == 1:
-        tt = _clip(0.004 * sz, 0.0005, 0.002)  # tape thickness
-        tw = _clip(0.15 * sx, 0.01, 0.06)
+        tt = clip(0.004 * sz, 0.0005, 0.002)  # tape thickness
+        tw = clip(0.15 * sx, 0.01, 0.06)
         return [
             Part("body", box_between((-hx, -hy + tt, -hz), (hx, hy - tt, hz - tt))),
             Part("tape_top", box_between((-tw / 2, -hy, hz - tt - 1e-4), (tw / 2, hy, hz))),
@@ -877,7 +785,7 @@ def cardboard_box(size, rng, style, support_heights):
                 box_between((-tw / 2, -hy, hz - 0.3 * sz), (tw / 2, -hy + tt + 1e-4, hz)),
             ),
         ]
-    wt = _clip(0.012 * min(sx, sy), 0.001, 0.006)
+    wt = clip(0.012 * min(sx, sy), 0.001, 0.006)
     ang = np.radians(rng.uniform(25.0, 45.0))  # flaps lean out from vertical
     fl = min(0.28 * min(sx, sy), 0.45 * sz)
     bx, by = sx - 2 * fl * np.sin(ang), sy - 2 * fl * np.sin(ang)
@@ -990,7 +898,7 @@ def alarm_clock(size, rng, style, support_heights):
     sx, sy, sz = size
     hx, hy, hz = size / 2
     if style == 1:
-        bh = _clip(0.04 * sz, 0.002, 0.008)  # buttons on top
+        bh = clip(0.04 * sz, 0.002, 0.008)  # buttons on top
         top = hz - bh
         slope_run = 0.3 * sy * rng.uniform(0.8, 1.2)  # the face leans back by this much
         bev = 0.06 * min(sx, sz)
@@ -1009,7 +917,7 @@ def alarm_clock(size, rng, style, support_heights):
         slope = np.arctan2(slope_run, sz - bh)
         rot = _rot_x(slope)  # local y -> the face normal, local z -> up the face
         face_len = np.hypot(slope_run, top + hz)
-        dt = _clip(0.02 * sy, 0.001, 0.004)
+        dt = clip(0.02 * sy, 0.001, 0.004)
         c = np.array([0.0, hy - slope_run / 2, (top - hz) / 2]) + rot[:, 1] * (dt / 2 - 1e-4)
         parts.append(Part("display", box(c, (0.78 * sx, dt, 0.55 * face_len), rot)))
         for i, x in enumerate((-0.2 * sx, 0.05 * sx)):
@@ -1093,7 +1001,7 @@ def tissue_box(size, rng, style, support_heights):
         srx, sry = 0.25 * sx, 0.25 * sy
     parts.append(Part("slot", _cyl_z((0, 0, zt), srx, sry, 0.02 * body_h, FINE_SEGMENTS)))
     tuft_h = hz - zt
-    tt = _clip(0.006 * min(sx, sy), 0.0008, 0.003)  # a sheet's apparent thickness
+    tt = clip(0.006 * min(sx, sy), 0.0008, 0.003)  # a sheet's apparent thickness
     for i in range(2):
         # two thin, slightly leaning sheets crossing at an angle
         rot = _rot_z((-1) ** i * rng.uniform(0.2, 0.45))
@@ -1193,7 +1101,7 @@ def remote_control(size, rng, style, support_heights):
     csize, rot = _flat_frame(size)
     w, length, t = csize
     hw, hl, ht = csize / 2
-    bh = _clip(0.15 * t, 0.0006, 0.003)  # button height
+    bh = clip(0.15 * t, 0.0006, 0.003)  # button height
     top = ht - bh
     corner = 0.2 * w if style == 0 else 0.49 * w
     parts = [Part("body", _bevelled_slab(w, length, -ht, top, corner, 0.12 * min(w, t)))]
@@ -1250,8 +1158,8 @@ def cell_phone(size, rng, style, support_heights):
     csize, rot = _flat_frame(size)
     w, length, t = csize
     hw, hl, ht = csize / 2
-    gt = _clip(0.1 * t, 0.0002, 0.001)  # glass standing proud of the frame
-    sb = _clip(0.012 * w, 0.0003, 0.001)  # side buttons standing out of the frame
+    gt = clip(0.1 * t, 0.0002, 0.001)  # glass standing proud of the frame
+    sb = clip(0.012 * w, 0.0003, 0.001)  # side buttons standing out of the frame
     r = (0.13 if style == 0 else 0.09) * w
     parts = [Part("body", _bevelled_slab(w - 2 * sb, length, -ht, ht - gt, r, 0.1 * t))]
     if style == 0:
@@ -1260,7 +1168,9 @@ def cell_phone(size, rng, style, support_heights):
         parts.append(
             Part(
                 "screen",
-                _slab((0, 0, ht - 0.55 * gt), w - 2 * sb - 2 * b, length - 2 * b, 0.9 * gt, r - b),
+                _rounded_block(
+                    (0, 0, ht - 0.55 * gt), w - 2 * sb - 2 * b, length - 2 * b, 0.9 * gt, r - b
+                ),
             )
         )
         parts.append(
@@ -1293,7 +1203,7 @@ def credit_card(size, rng, style, support_heights):
     w, length, t = csize
     hw, hl, ht = csize / 2
     dh = 0.3 * t  # relief of the print and chip
-    parts = [Part("card", _slab((0, 0, -dh / 2), w, length, t - dh, 0.06 * w))]
+    parts = [Part("card", _rounded_block((0, 0, -dh / 2), w, length, t - dh, 0.06 * w))]
     zc = ht - dh / 2
 
     def plate(name: str, x: float, y: float, pw: float, pd: float) -> Part:
@@ -1342,7 +1252,9 @@ def _watch_face(
     case_h = 0.7 * h
     if style == 1:
         return [
-            Part("case", _slab((0, 0, z0 + case_h / 2), cw, cd, case_h, 0.2 * min(cw, cd))),
+            Part(
+                "case", _rounded_block((0, 0, z0 + case_h / 2), cw, cd, case_h, 0.2 * min(cw, cd))
+            ),
             Part(
                 "display", box((0, 0, z1 - 0.15 * h - 1e-5), (0.72 * cw, 0.72 * cd, 0.3 * h + 2e-5))
             ),
@@ -1374,7 +1286,7 @@ def watch(size, rng, style, support_heights):
     if t < 0.35 * length:
         # lying open: strap halves spread out, buckle at -y
         head_d = min(w, 0.4 * length)
-        st = _clip(0.3 * t, 0.0008, 0.004)  # strap thickness
+        st = clip(0.3 * t, 0.0008, 0.004)  # strap thickness
         sw = 0.62 * w
         parts = _watch_face(style, rng, -ht, ht, 0.9 * w if style == 1 else w, head_d)
         ends = ((0.35 * head_d, hl), (-hl + 0.06 * length, -0.35 * head_d))
@@ -1405,7 +1317,7 @@ def watch(size, rng, style, support_heights):
         return _pose(parts, rot)
     # closed band standing as a loop (in the y-z plane) under the head
     head_h = 0.2 * t
-    bt = _clip(0.06 * t, 0.001, 0.004)
+    bt = clip(0.06 * t, 0.001, 0.004)
     bw = 0.62 * w
     a, b = hl - bt / 2, (t - head_h) / 2 - bt / 2
     zc = -ht + bt / 2 + b
@@ -1430,7 +1342,10 @@ def _key(
     bow_w, bow_d = 0.36 * length, 0.3 * length
     parts = [
         Part(
-            "bow", _slab((0, 0.1 * length, (z0 + z1) / 2), bow_w, bow_d, thick, 0.4 * bow_w, arc=3)
+            "bow",
+            _rounded_block(
+                (0, 0.1 * length, (z0 + z1) / 2), bow_w, bow_d, thick, 0.4 * bow_w, arc=3
+            ),
         ),
         Part(
             "blade", box_between((-0.06 * length, 0.24 * length, z0), (0.07 * length, length, z1))
@@ -1485,7 +1400,7 @@ def key_chain(size, rng, style, support_heights):
     if style == 1:
         a = np.radians(rng.uniform(115.0, 135.0))  # the fob hangs off to one side
         anchor = ring_c + rr * np.array([np.sin(a), np.cos(a), 0.0])
-        fob = _slab(
+        fob = _rounded_block(
             (0, 0.45 * key_len * 0.6, -ht + 0.5 * t),
             0.4 * key_len,
             0.6 * key_len,
@@ -1757,7 +1672,7 @@ def _draped(w: float, d: float, h: float, bands: bool) -> list[Part]:
     origin: the fold over the bar on top, a long front layer and a shorter back layer,
     optional woven bands near the hem."""
     hw, hd, hh = w / 2, d / 2, h / 2
-    lt = _clip(0.28 * d, 0.001, 0.015)  # layer thickness
+    lt = clip(0.28 * d, 0.001, 0.015)  # layer thickness
     fold_r = hd
     z_fold = hh - fold_r
     parts = [
@@ -1913,8 +1828,8 @@ def paper_towel_roll(size, rng, style, support_heights):
         core = 0.3
         parts += _paper_roll(rx, ry, core, -hz, hz - 0.01 * sz, hz)
     else:
-        base_h = _clip(0.04 * sz, 0.005, 0.02)
-        knob_h = _clip(0.08 * sz, 0.01, 0.04)
+        base_h = clip(0.04 * sz, 0.005, 0.02)
+        knob_h = clip(0.08 * sz, 0.01, 0.04)
         rod_r = 0.09 * min(rx, ry)
         parts += [
             Part("base", _cyl_z((0, 0, -hz + base_h / 2), hx, hy, base_h, FINE_SEGMENTS)),
@@ -2091,7 +2006,7 @@ def tennis_racket(size, rng, style, support_heights):
     head_l = min(0.46 * length, 1.45 * w)  # head length along y
     a, b = hw, head_l / 2
     yc = hl - b
-    fw = _clip(0.06 * w, 0.006, 0.02)  # frame width
+    fw = clip(0.06 * w, 0.006, 0.02)  # frame width
     parts: list[Part] = []
     if style == 0:
         n = 14
@@ -2121,7 +2036,7 @@ def tennis_racket(size, rng, style, support_heights):
         parts.append(
             Part("cover_seam", _cyl_z((0, yc, 0), 0.97 * hw, 0.97 * b, 1.15 * t, FINE_SEGMENTS))
         )
-    handle_r = _clip(0.11 * w, 0.005, ht / np.cos(np.pi / 8))
+    handle_r = clip(0.11 * w, 0.005, ht / np.cos(np.pi / 8))
     y_throat = yc - b + 0.3 * fw
     y_grip = -hl + 0.38 * length
     for i, sgn in enumerate((-1, 1)):
@@ -2240,7 +2155,7 @@ def _boot(bw: float, bl: float, h: float, style: int) -> list[Part]:
     """One boot, toe toward +y, centred on the origin's x-y, sole at z = 0: width bw,
     length bl, height h."""
     hw, hl = bw / 2, bl / 2
-    st = _clip(0.08 * bl, 0.008, 0.03)  # sole
+    st = clip(0.08 * bl, 0.008, 0.03)  # sole
     outline = _superellipse(hw, hl, 16, 2.3)
     outline[:, 0] *= np.where(outline[:, 1] < 0, 0.85, 1.0)  # a narrower heel
     parts = [Part("sole", prism(outline, 0.0, st))]
@@ -2444,9 +2359,11 @@ def decor(size, rng, style, support_heights):
         return parts
     if sz < 1.5 * max(sx, sy):
         # a low box: three pillars of different heights on a tray
-        tray_h = _clip(0.08 * sz, 0.004, 0.03)
+        tray_h = clip(0.08 * sz, 0.004, 0.03)
         parts.append(
-            Part("tray", _slab((0, 0, -hz + tray_h / 2), sx, sy, tray_h, 0.15 * min(sx, sy)))
+            Part(
+                "tray", _rounded_block((0, 0, -hz + tray_h / 2), sx, sy, tray_h, 0.15 * min(sx, sy))
+            )
         )
         pr = 0.2 * min(sx, sy)
         spots = ((-0.45 * hx, 0.25 * hy), (0.1 * hx, -0.3 * hy), (0.55 * hx, 0.3 * hy))
@@ -2478,7 +2395,7 @@ def decor(size, rng, style, support_heights):
         )
     )
     n = int(rng.integers(3, 6))
-    br = _clip(0.01 * sz, 0.002, 0.012)
+    br = clip(0.01 * sz, 0.002, 0.012)
     # branches spread evenly around so that together they span the box
     spokes = np.linspace(0.0, _TAU, n, endpoint=False) + rng.uniform(0, _TAU)
     for k, a in enumerate(spokes + rng.uniform(-0.3, 0.3, n)):

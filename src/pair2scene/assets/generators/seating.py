@@ -1,7 +1,7 @@
 """Seating: chairs, stools, ottomans, armchairs and sofas.
 
-Built in floor coordinates like the tables (see ``tables.py`` for the shared
-building blocks). Every seat is a horizontal upward surface; backs rise at -y,
+Built in floor coordinates like the tables (the shared building blocks are in
+``shapes.py``). Every seat is a horizontal upward surface; backs rise at -y,
 arms sit at +-x, and the front (+y) stays open.
 """
 
@@ -11,10 +11,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from pair2scene.assets.generators.tables import (
-    ROUND_SEGMENTS,
-    THIN_SEGMENTS,
-    clamp,
+from pair2scene.assets.generators.shapes import (
+    FINE_SEGMENTS,
+    ROD_SEGMENTS,
+    clip,
     corner_legs,
     floor_to_centre,
     jitter,
@@ -56,13 +56,13 @@ def chair(
     swivel base (2). The seat top is near half the height; the backrest rises at -y."""
     sx, sy, sz = (float(v) for v in size)
     hx, hy, short = sx / 2, sy / 2, min(sx, sy)
-    seat_top = clamp(CHAIR_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.65) * sz
-    seat_t = min(clamp(0.05 * sz, 0.02, 0.06) * jitter(rng), 0.2 * seat_top)
+    seat_top = clip(CHAIR_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.65) * sz
+    seat_t = min(clip(0.05 * sz, 0.02, 0.06) * jitter(rng), 0.2 * seat_top)
     seat_bot = seat_top - seat_t
     if style == 0:
-        leg = clamp(0.08 * short, 0.02, 0.05) * jitter(rng)
+        leg = clip(0.08 * short, 0.02, 0.05) * jitter(rng)
         lx, fy, by = hx - leg / 2, hy - leg / 2, -hy + leg / 2
-        bt = clamp(0.05 * sy, 0.015, 0.035)  # back panel thickness
+        bt = clip(0.05 * sy, 0.015, 0.035)  # back panel thickness
         parts = [
             Part("leg_0", tapered_box(-lx, by, 0.0, sz, (leg, leg), (0.8 * leg, 0.8 * leg))),
             Part("leg_1", tapered_box(lx, by, 0.0, sz, (leg, leg), (0.8 * leg, 0.8 * leg))),
@@ -80,21 +80,21 @@ def chair(
     elif style == 1:
         # cantilever: each side one bent tube (floor runner, front upright, rail under the
         # seat, leaning back tube); nothing holds the seat's rear from below
-        r = clamp(0.025 * short, 0.007, 0.014)
+        r = clip(0.025 * short, 0.007, 0.014)
         fx = hx - 1.5 * r  # frame sits under the seat's side edges
         y_top = -hy + r  # back tube at the top of the chair
-        y_rear = -hy + r + clamp(0.12 * sy, 0.02, 0.08) * jitter(rng)  # ... at the seat
+        y_rear = -hy + r + clip(0.12 * sy, 0.02, 0.08) * jitter(rng)  # ... at the seat
         z_rail = seat_bot - r
         lean = (y_top - y_rear) / (sz - z_rail)  # dy per dz of the back tubes (< 0)
-        bt = clamp(0.04 * sy, 0.01, 0.025)
+        bt = clip(0.04 * sy, 0.01, 0.025)
         parts = [rounded_slab("seat", -hx, hx, y_rear - r, hy, seat_bot, seat_top, 0.1 * short)]
         for side, x in (("left", -fx), ("right", fx)):
-            foot = ring_points(r, r, z_rail, THIN_SEGMENTS, x, y_rear)
-            top = ring_points(r, r, sz, THIN_SEGMENTS, x, y_top)
+            foot = ring_points(r, r, z_rail, ROD_SEGMENTS, x, y_rear)
+            top = ring_points(r, r, sz, ROD_SEGMENTS, x, y_top)
             parts += [
-                Part(f"runner_{side}", y_cylinder(y_rear, hy, x, r, r, r, THIN_SEGMENTS)),
-                Part(f"upright_{side}", z_cylinder(x, hy - r, 0.0, seat_bot, r, THIN_SEGMENTS)),
-                Part(f"seat_rail_{side}", y_cylinder(y_rear, hy, x, z_rail, r, r, THIN_SEGMENTS)),
+                Part(f"runner_{side}", y_cylinder(y_rear, hy, x, r, r, r, ROD_SEGMENTS)),
+                Part(f"upright_{side}", z_cylinder(x, hy - r, 0.0, seat_bot, r, ROD_SEGMENTS)),
+                Part(f"seat_rail_{side}", y_cylinder(y_rear, hy, x, z_rail, r, r, ROD_SEGMENTS)),
                 Part(f"back_tube_{side}", hull(np.concatenate([foot, top]))),
             ]
         z0 = seat_top + 0.35 * (sz - seat_top)
@@ -103,18 +103,16 @@ def chair(
         parts.append(Part("back", sheared(panel, lean, zm)))
     else:
         rb = min(hx, hy)  # star radius; one arm points to +y, the others stay inside
-        caster_h = clamp(0.06 * sz, 0.02, 0.05)
-        arm_h = clamp(0.05 * sz, 0.015, 0.04)
-        arm_w = clamp(0.12 * rb, 0.02, 0.05)
-        col_r = clamp(0.06 * short, 0.012, 0.03)
-        cush_t = min(clamp(0.09 * sz, 0.03, 0.09), 0.3 * seat_top)
-        back_t = clamp(0.08 * sy, 0.02, 0.06)
+        caster_h = clip(0.06 * sz, 0.02, 0.05)
+        arm_h = clip(0.05 * sz, 0.015, 0.04)
+        arm_w = clip(0.12 * rb, 0.02, 0.05)
+        col_r = clip(0.06 * short, 0.012, 0.03)
+        cush_t = min(clip(0.09 * sz, 0.03, 0.09), 0.3 * seat_top)
+        back_t = clip(0.08 * sy, 0.02, 0.06)
         parts = [
             Part(
                 "hub",
-                z_cylinder(
-                    0.0, 0.0, caster_h, caster_h + 1.6 * arm_h, 2 * col_r, THIN_SEGMENTS * 2
-                ),
+                z_cylinder(0.0, 0.0, caster_h, caster_h + 1.6 * arm_h, 2 * col_r, FINE_SEGMENTS),
             )
         ]
         for i in range(5):
@@ -134,17 +132,17 @@ def chair(
                 Part(
                     f"caster_{i}",
                     z_cylinder(
-                        tip * c, tip * s, 0.0, caster_h, 0.5 * caster_h + 0.3 * arm_w, THIN_SEGMENTS
+                        tip * c, tip * s, 0.0, caster_h, 0.5 * caster_h + 0.3 * arm_w, ROD_SEGMENTS
                     ),
                 )
             )
-        mech_h = clamp(0.04 * sz, 0.015, 0.04)
+        mech_h = clip(0.04 * sz, 0.015, 0.04)
         y_back = -hy + back_t  # front face of the backrest at its top
         parts += [
             Part(
                 "column",
                 z_cylinder(
-                    0.0, 0.0, caster_h + arm_h, seat_top - cush_t - mech_h, col_r, THIN_SEGMENTS
+                    0.0, 0.0, caster_h + arm_h, seat_top - cush_t - mech_h, col_r, ROD_SEGMENTS
                 ),
             ),
             slab(
@@ -158,7 +156,7 @@ def chair(
         ]
         z0 = seat_top + 0.12 * (sz - seat_top)
         zm = (z0 + sz) / 2
-        lean = -clamp(0.6 * back_t / (sz - z0), 0.0, 0.25)  # top leans back to y = -hy
+        lean = -clip(0.6 * back_t / (sz - z0), 0.0, 0.25)  # top leans back to y = -hy
         back = rounded_slab(
             "back", -0.9 * hx, 0.9 * hx, y_back - back_t, y_back, z0, sz, 0.15 * short
         )
@@ -186,21 +184,21 @@ def stool(
     footrest ring when tall (2). The seat is the top of the box."""
     sx, sy, sz = (float(v) for v in size)
     hx, hy, short = sx / 2, sy / 2, min(sx, sy)
-    seat_t = min(clamp(0.07 * sz, 0.025, 0.06) * jitter(rng), 0.2 * sz)
+    seat_t = min(clip(0.07 * sz, 0.025, 0.06) * jitter(rng), 0.2 * sz)
     under = sz - seat_t
     tall = sz >= FOOTREST_MIN_HEIGHT
     round_seat = lathe(
         [(0.93, under), (1.0, under + 0.35 * seat_t), (1.0, sz - 0.35 * seat_t), (0.95, sz)], hx, hy
     )
     if style == 0:
-        r = clamp(0.05 * short, 0.01, 0.022) * jitter(rng)
+        r = clip(0.05 * short, 0.01, 0.022) * jitter(rng)
         f_top, f_foot = 0.55, 0.85  # leg centres as fractions of the seat's radii
         parts = [Part("seat", round_seat)]
         for i, a in enumerate(np.radians([45.0, 135.0, 225.0, 315.0])):
             c, s = np.cos(a), np.sin(a)
-            top = ring_points(r, r, under, THIN_SEGMENTS, f_top * hx * c, f_top * hy * s)
+            top = ring_points(r, r, under, ROD_SEGMENTS, f_top * hx * c, f_top * hy * s)
             foot = ring_points(
-                0.8 * r, 0.8 * r, 0.0, THIN_SEGMENTS, f_foot * hx * c, f_foot * hy * s
+                0.8 * r, 0.8 * r, 0.0, ROD_SEGMENTS, f_foot * hx * c, f_foot * hy * s
             )
             parts.append(Part(f"leg_{i}", hull(np.concatenate([top, foot]))))
         z_ring = (0.32 if tall else 0.3) * under
@@ -208,7 +206,7 @@ def stool(
         # ring vertices at 0, 45, 90 ... deg: every other one meets a leg
         parts += ring_of_boxes("footrest", f * hx, f * hy, z_ring, 8, 1.2 * r, 1.2 * r)
     elif style == 1:
-        leg = clamp(0.1 * short, 0.02, 0.045) * jitter(rng)
+        leg = clip(0.1 * short, 0.02, 0.045) * jitter(rng)
         lx, ly = hx - leg / 2 - 0.02 * sx, hy - leg / 2 - 0.02 * sy
         parts = [rounded_slab("seat", -hx, hx, -hy, hy, under, sz, 0.08 * short)]
         parts += corner_legs(lx, ly, 0.0, under, leg, taper=0.85)
@@ -229,8 +227,8 @@ def stool(
             ),
         ]
     else:
-        col_r = clamp(0.08 * short, 0.02, 0.04) * jitter(rng)
-        base_h = clamp(0.04 * sz, 0.012, 0.03)
+        col_r = clip(0.08 * short, 0.02, 0.04) * jitter(rng)
+        base_h = clip(0.04 * sz, 0.012, 0.03)
         parts = [
             Part("seat", round_seat),
             Part(
@@ -240,19 +238,19 @@ def stool(
                     base_h,
                     (0.85 * hx, 0.85 * hy),
                     (0.75 * hx, 0.75 * hy),
-                    ROUND_SEGMENTS,
+                    FINE_SEGMENTS,
                 ),
             ),
-            Part("column", z_cylinder(0.0, 0.0, base_h, under, col_r, THIN_SEGMENTS * 2)),
+            Part("column", z_cylinder(0.0, 0.0, base_h, under, col_r, FINE_SEGMENTS)),
             Part(
                 "seat_plate",
                 frustum(
-                    (0.0, 0.0, under - 0.04 * sz), 0.04 * sz, col_r, 0.5 * short, THIN_SEGMENTS * 2
+                    (0.0, 0.0, under - 0.04 * sz), 0.04 * sz, col_r, 0.5 * short, FINE_SEGMENTS
                 ),
             ),
         ]
         if tall:
-            z_ring, w = 0.35 * sz, clamp(0.04 * short, 0.01, 0.02)
+            z_ring, w = 0.35 * sz, clip(0.04 * short, 0.01, 0.02)
             fr = 0.75
             parts += ring_of_boxes("footrest", fr * hx, fr * hy, z_ring, 12, w, w)
             parts += [
@@ -279,10 +277,10 @@ def ottoman(
     sx, sy, sz = (float(v) for v in size)
     hx, hy, short = sx / 2, sy / 2, min(sx, sy)
     if style == 0:
-        foot_h = clamp(0.1 * sz, 0.015, 0.07) * jitter(rng)
-        cush_t = clamp(0.25 * sz, 0.03, 0.12) * jitter(rng)
-        e = clamp(0.03 * short, 0.005, 0.02)  # body set in under the cushion's edge
-        foot = clamp(0.08 * short, 0.02, 0.05)
+        foot_h = clip(0.1 * sz, 0.015, 0.07) * jitter(rng)
+        cush_t = clip(0.25 * sz, 0.03, 0.12) * jitter(rng)
+        e = clip(0.03 * short, 0.005, 0.02)  # body set in under the cushion's edge
+        foot = clip(0.08 * short, 0.02, 0.05)
         parts = corner_legs(
             hx - 2 * e - foot / 2,
             hy - 2 * e - foot / 2,
@@ -333,16 +331,16 @@ def _upholstered(
     """
     sx, sy, sz = (float(v) for v in size)
     hx, hy, short = sx / 2, sy / 2, min(sx, sy)
-    seat_top = clamp(LOUNGE_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.6) * sz
+    seat_top = clip(LOUNGE_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.6) * sz
     arm_top = seat_top + 0.42 * (sz - seat_top) * jitter(rng, 0.05)
-    aw = 0.0 if arms == "none" else min(clamp(0.12 * sx, 0.07, 0.2), 0.2 * sx) * jitter(rng)
-    back_d = min(clamp(0.2 * sy, 0.08, 0.22), 0.3 * sy) * jitter(rng)
-    cush_t = min(clamp(0.15 * sz, 0.05, 0.16), 0.35 * seat_top)
+    aw = 0.0 if arms == "none" else min(clip(0.12 * sx, 0.07, 0.2), 0.2 * sx) * jitter(rng)
+    back_d = min(clip(0.2 * sy, 0.08, 0.22), 0.3 * sy) * jitter(rng)
+    cush_t = min(clip(0.15 * sz, 0.05, 0.16), 0.35 * seat_top)
     base_top = seat_top - cush_t
     if legs:
-        z0 = min(clamp(0.12 * sz, 0.04, 0.15) * jitter(rng), 0.5 * base_top)
-        leg = clamp(0.05 * short, 0.025, 0.05)
-        e = clamp(0.03 * short, 0.01, 0.04)
+        z0 = min(clip(0.12 * sz, 0.04, 0.15) * jitter(rng), 0.5 * base_top)
+        leg = clip(0.05 * short, 0.025, 0.05)
+        e = clip(0.03 * short, 0.01, 0.04)
         lx, ly = hx - e - leg / 2, hy - e - leg / 2
         parts = corner_legs(lx, ly, 0.0, z0 + 0.01, leg, round_legs=True, taper=0.6)
         if sx > 1.6:  # long sofas carry a middle pair of feet
@@ -350,12 +348,12 @@ def _upholstered(
                 parts.append(
                     Part(
                         f"leg_{4 + i}",
-                        frustum((0.0, y, 0.0), z0 + 0.01, 0.3 * leg, 0.5 * leg, THIN_SEGMENTS),
+                        frustum((0.0, y, 0.0), z0 + 0.01, 0.3 * leg, 0.5 * leg, ROD_SEGMENTS),
                     )
                 )
     else:
-        z0 = clamp(0.05 * sz, 0.015, 0.05)
-        e = clamp(0.02 * short, 0.01, 0.03)
+        z0 = clip(0.05 * sz, 0.015, 0.05)
+        e = clip(0.02 * short, 0.01, 0.03)
         parts = [slab("plinth", (-hx + e, -hy + e, 0.0), (hx - e, hy - e, z0 + 0.01))]
     inner0, inner1 = -hx + aw, hx - aw
     parts += [
@@ -397,7 +395,7 @@ def _upholstered(
             parts.append(Part(f"wing_{side}", hull(np.array(pts))))
     gap = 0.004
     xs = np.linspace(inner0, inner1, n_seats + 1)
-    bc_d = clamp(0.16 * sy, 0.06, 0.18)  # back cushion depth
+    bc_d = clip(0.16 * sy, 0.06, 0.18)  # back cushion depth
     bc_top = sz - 0.08 * (sz - seat_top)
     lean = -0.15  # back cushions lean back: dy per dz
     for i in range(n_seats):
@@ -436,15 +434,15 @@ def armchair(
     if style == 2:
         return floor_to_centre(_upholstered(size, rng, 1, "rolled", legs=False, wings=True), sz)
     hx, hy, short = sx / 2, sy / 2, min(sx, sy)
-    seat_top = clamp(LOUNGE_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.6) * sz
+    seat_top = clip(LOUNGE_SEAT_FRACTION * jitter(rng, 0.04), 0.35, 0.6) * sz
     arm_top = seat_top + 0.42 * (sz - seat_top) * jitter(rng, 0.05)
-    cush_t = min(clamp(0.12 * sz, 0.04, 0.12), 0.3 * seat_top)
-    leg = clamp(0.06 * short, 0.025, 0.05) * jitter(rng)
-    arm_w = clamp(0.08 * sx, 0.04, 0.09)
-    arm_t = clamp(0.04 * sz, 0.02, 0.04)
-    rail_h = clamp(0.08 * sz, 0.03, 0.08)
+    cush_t = min(clip(0.12 * sz, 0.04, 0.12), 0.3 * seat_top)
+    leg = clip(0.06 * short, 0.025, 0.05) * jitter(rng)
+    arm_w = clip(0.08 * sx, 0.04, 0.09)
+    arm_t = clip(0.04 * sz, 0.02, 0.04)
+    rail_h = clip(0.08 * sz, 0.03, 0.08)
     seat_bot = seat_top - cush_t
-    lean_d = clamp(0.12 * sy, 0.04, 0.12)  # how far the back's top sits behind its foot
+    lean_d = clip(0.12 * sy, 0.04, 0.12)  # how far the back's top sits behind its foot
     lean = -lean_d / (sz - seat_bot)
     lx, fy = hx - arm_w / 2, hy - leg / 2
     ry = -hy + lean_d + leg / 2  # rear legs, under the foot of the back posts
@@ -478,7 +476,7 @@ def armchair(
             0.25 * cush_t,
         ),
     ]
-    back_t = clamp(0.1 * sy, 0.04, 0.1)
+    back_t = clip(0.1 * sy, 0.04, 0.1)
     back = box_between(
         (-lx + leg / 2, ry - leg / 2, seat_top),
         (lx - leg / 2, ry - leg / 2 + back_t, sz - 0.05 * (sz - seat_top)),
@@ -501,6 +499,6 @@ def sofa(
     sx = float(size[0])
     arms = ("box", "box", "none", "rolled")[style]
     legs = style in (0, 2)
-    arm_w = 0.0 if arms == "none" else clamp(0.12 * sx, 0.07, 0.2)
-    n = 1 if style == 1 else int(clamp(round((sx - 2 * arm_w) / SOFA_SEAT_WIDTH), 2, 3))
+    arm_w = 0.0 if arms == "none" else clip(0.12 * sx, 0.07, 0.2)
+    n = 1 if style == 1 else int(clip(round((sx - 2 * arm_w) / SOFA_SEAT_WIDTH), 2, 3))
     return floor_to_centre(_upholstered(size, rng, n, arms, legs), float(size[2]))

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pair2scene.assets.generators.shapes import ROD_SEGMENTS, ROUND_SEGMENTS, clip, slab
 from pair2scene.assets.mesh import Part, box, box_between, cylinder, frustum, hull
 from pair2scene.assets.registry import register
 
@@ -49,11 +50,6 @@ FILL_GAP_M = 0.6
 a dataset bookcase with books on one shelf still has its other shelves."""
 FRONT_GAP_M = 0.004
 """Reveal between neighbouring drawer fronts and doors."""
-ROUND_SEGMENTS = 12
-"""Sides of posts, wheels and bins: round at 256 px; a multiple of 4 so the extreme
-vertices lie exactly on the box faces."""
-KNOB_SEGMENTS = 8
-"""Knobs are a few pixels wide: 8 sides are plenty."""
 
 _Z_TO_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 """Rotation taking +z to +y: a cylinder lying along y (knobs, dials)."""
@@ -62,15 +58,6 @@ _Z_TO_X = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])
 
 
 # -- small helpers -----------------------------------------------------------------------
-def _clip(x: float, lo: float, hi: float) -> float:
-    return float(min(max(x, lo), hi))
-
-
-def _box(name: str, x0: float, x1: float, y0: float, y1: float, z0: float, z1: float) -> Part:
-    """An axis-aligned box part from its x, y and z ranges."""
-    return Part(name, box_between((x0, y0, z0), (x1, y1, z1)))
-
-
 def _finish(parts: list[Part], height: float) -> list[Part]:
     """Move parts built with the box bottom at z = 0 to the box-centred frame."""
     shift = np.array([0.0, 0.0, -height / 2])
@@ -93,7 +80,7 @@ def _knob(name: str, x: float, z: float, radius: float, y0: float, y1: float) ->
     """A round knob standing on a front face at y0, reaching y1."""
     return Part(
         name,
-        cylinder((x, (y0 + y1) / 2, z), radius, y1 - y0, segments=KNOB_SEGMENTS, rotation=_Z_TO_Y),
+        cylinder((x, (y0 + y1) / 2, z), radius, y1 - y0, segments=ROD_SEGMENTS, rotation=_Z_TO_Y),
     )
 
 
@@ -203,19 +190,19 @@ class _Front:
     def at(y_handle: float, depth: float) -> _Front:
         """Front of a body ``depth`` deep whose handles reach ``y_handle``."""
         # under 3 cm: a bar handle's top is no place to put anything
-        handle = min(_clip(0.045 * depth, 0.012, 0.025), 0.15 * depth)
-        panel = min(_clip(0.035 * depth, 0.01, 0.02), 0.1 * depth)
+        handle = min(clip(0.045 * depth, 0.012, 0.025), 0.15 * depth)
+        panel = min(clip(0.035 * depth, 0.01, 0.02), 0.1 * depth)
         return _Front(
             y_handle - handle - panel,
             y_handle - handle,
             y_handle,
-            _clip(0.5 * handle, 0.008, 0.014),
+            clip(0.5 * handle, 0.008, 0.014),
         )
 
     def panel(self, name: str, x0: float, x1: float, z0: float, z1: float) -> Part:
         """A front panel in the slot x0..x1, z0..z1, inset by half the reveal all round."""
         g = FRONT_GAP_M / 2
-        return _box(name, x0 + g, x1 - g, self.y_carcass, self.y_face, z0 + g, z1 - g)
+        return slab(name, (x0 + g, self.y_carcass, z0 + g), (x1 - g, self.y_face, z1 - g))
 
     def drawer(
         self, name: str, x0: float, x1: float, z0: float, z1: float, knobs: bool
@@ -234,24 +221,20 @@ class _Front:
         w, h = x1 - x0, z1 - z0
         cx, cz = (x0 + x1) / 2, (z0 + z1) / 2
         if knobs:
-            r = min(_clip(0.1 * h, 0.008, 0.02), 0.2 * w)
+            r = min(clip(0.1 * h, 0.008, 0.02), 0.2 * w)
             xs = [cx] if w < 0.5 else [x0 + w / 4, x1 - w / 4]
             parts += [
                 _knob(f"{name}_knob_{i}", x, cz, r, self.y_face, self.y_handle)
                 for i, x in enumerate(xs)
             ]
         else:
-            half_len = min(_clip(0.18 * w, 0.03, 0.15), 0.4 * w)
+            half_len = min(clip(0.18 * w, 0.03, 0.15), 0.4 * w)
             half_t = min(self.grip, 0.4 * h) / 2
             parts.append(
-                _box(
+                slab(
                     f"{name}_handle",
-                    cx - half_len,
-                    cx + half_len,
-                    self.y_face,
-                    self.y_handle,
-                    cz - half_t,
-                    cz + half_t,
+                    (cx - half_len, self.y_face, cz - half_t),
+                    (cx + half_len, self.y_handle, cz + half_t),
                 )
             )
         return parts
@@ -271,27 +254,23 @@ class _Front:
         right edge, -1: left), centred as near ``handle_z`` as the door allows."""
         parts = [self.panel(name, x0, x1, z0, z1)]
         w, h = x1 - x0, z1 - z0
-        margin = min(_clip(0.1 * w, 0.025, 0.05), 0.3 * w)
+        margin = min(clip(0.1 * w, 0.025, 0.05), 0.3 * w)
         x = x1 - margin if side > 0 else x0 + margin
         if knob:
-            r = min(_clip(0.04 * w, 0.01, 0.02), 0.15 * h)
+            r = min(clip(0.04 * w, 0.01, 0.02), 0.15 * h)
             margin_z = min(0.08, 0.3 * h)
-            z = _clip(handle_z, z0 + margin_z, z1 - margin_z)
+            z = clip(handle_z, z0 + margin_z, z1 - margin_z)
             parts.append(_knob(f"{name}_knob", x, z, r, self.y_face, self.y_handle))
         else:
-            half_len = min(_clip(0.12 * h, 0.04, 0.2), 0.35 * h)
+            half_len = min(clip(0.12 * h, 0.04, 0.2), 0.35 * h)
             margin_z = min(0.05, 0.1 * h) + half_len
-            z = _clip(handle_z, z0 + margin_z, z1 - margin_z)
+            z = clip(handle_z, z0 + margin_z, z1 - margin_z)
             half_t = min(self.grip, 0.3 * w) / 2
             parts.append(
-                _box(
+                slab(
                     f"{name}_handle",
-                    x - half_t,
-                    x + half_t,
-                    self.y_face,
-                    self.y_handle,
-                    z - half_len,
-                    z + half_len,
+                    (x - half_t, self.y_face, z - half_len),
+                    (x + half_t, self.y_handle, z + half_len),
                 )
             )
         return parts
@@ -332,15 +311,15 @@ def _tier_boards(
     levels: Sequence[_Level], x0: float, x1: float, y0: float, y1: float
 ) -> list[Part]:
     """One board per level ("tier_0" is the bottom board)."""
-    return [_box(f"tier_{i}", x0, x1, y0, y1, lv.bottom, lv.top) for i, lv in enumerate(levels)]
+    return [slab(f"tier_{i}", (x0, y0, lv.bottom), (x1, y1, lv.top)) for i, lv in enumerate(levels)]
 
 
 def _sides(
     x0: float, x1: float, t: float, y0: float, y1: float, z0: float, z1: float
 ) -> list[Part]:
     return [
-        _box("side_left", x0, x0 + t, y0, y1, z0, z1),
-        _box("side_right", x1 - t, x1, y0, y1, z0, z1),
+        slab("side_left", (x0, y0, z0), (x0 + t, y1, z1)),
+        slab("side_right", (x1 - t, y0, z0), (x1, y1, z1)),
     ]
 
 
@@ -364,7 +343,7 @@ def _corner_legs(
 
 def _board_thickness(w: float, d: float, h: float) -> float:
     """Shelf board thickness: 15-30 mm, thinner for small or flat units."""
-    return min(_clip(0.05 * min(w, d), 0.012, 0.03), 0.1 * h)
+    return min(clip(0.05 * min(w, d), 0.012, 0.03), 0.1 * h)
 
 
 # =======================================================================================
@@ -382,12 +361,12 @@ def shelving_unit(
     """
     w, d, h = size
     t = _board_thickness(w, d, h) * rng.uniform(0.9, 1.1)
-    top_t = min(_clip(1.2 * t, 0.015, MAX_TOP_M), 0.1 * h)
+    top_t = min(clip(1.2 * t, 0.015, MAX_TOP_M), 0.1 * h)
     x0, x1, y0, y1 = -w / 2, w / 2, -d / 2, d / 2
     parts: list[Part] = []
     if style == 1:
-        post = min(_clip(0.06 * min(w, d), 0.02, 0.045), 0.25 * w, 0.25 * d)
-        base = _clip(0.06 * h, 0.03, 0.12) * rng.uniform(0.8, 1.2)
+        post = min(clip(0.06 * min(w, d), 0.02, 0.045), 0.25 * w, 0.25 * d)
+        base = clip(0.06 * h, 0.03, 0.12) * rng.uniform(0.8, 1.2)
         levels = _fill_gaps(_levels(h, t, base + t, support_heights, rng), h, t)
         parts += _corner_legs(x0, x1, y0, y1, h, post, taper=False)
         parts += _tier_boards(levels, x0, x1, y0, y1)
@@ -405,22 +384,22 @@ def shelving_unit(
                     min(0.5 * post, 0.01),
                 )
             )
-        parts.append(_box("top", x0, x1, y0, y1, h - top_t, h))
+        parts.append(slab("top", (x0, y0, h - top_t), (x1, y1, h)))
         return _finish(parts, h)
 
-    back_t = _clip(0.3 * t, 0.004, 0.01) if style == 0 else 0.0
-    inset = _clip(0.03 * d, 0.004, 0.02)
-    plinth = _clip(0.04 * h, 0.03, 0.08) * rng.uniform(0.8, 1.2) if style == 0 else 0.0
+    back_t = clip(0.3 * t, 0.004, 0.01) if style == 0 else 0.0
+    inset = clip(0.03 * d, 0.004, 0.02)
+    plinth = clip(0.04 * h, 0.03, 0.08) * rng.uniform(0.8, 1.2) if style == 0 else 0.0
     levels = _fill_gaps(_levels(h, t, plinth + t, support_heights, rng), h, t)
     xi0, xi1 = x0 + t, x1 - t
     parts += _sides(x0, x1, t, y0, y1, 0.0, h - top_t)
-    parts.append(_box("top", x0, x1, y0, y1, h - top_t, h))
+    parts.append(slab("top", (x0, y0, h - top_t), (x1, y1, h)))
     parts += _tier_boards(levels, xi0, xi1, y0 + back_t, y1 - inset)
     if back_t > 0:
-        parts.append(_box("back", xi0, xi1, y0, y0 + back_t, 0.0, h - top_t))
+        parts.append(slab("back", (xi0, y0, 0.0), (xi1, y0 + back_t, h - top_t)))
     base = levels[0].bottom
     if base > MIN_BOARD_M:
-        parts.append(_box("plinth", xi0, xi1, y0 + back_t, y1 - inset - 0.01 * d, 0.0, base))
+        parts.append(slab("plinth", (xi0, y0 + back_t, 0.0), (xi1, y1 - inset - 0.01 * d, base)))
     if style == 2:
         bays = _bays(levels, h - top_t)
         cols = int(np.clip(round((w - 2 * t) / rng.uniform(*TIER_GAP_M)), 1, 6))
@@ -429,7 +408,9 @@ def shelving_unit(
         for b, (z0, z1, _) in enumerate(bays):
             for c in range(1, cols):
                 parts.append(
-                    _box(f"divider_{b}_{c}", xs[c] - t / 2, xs[c] + t / 2, y0, y1 - inset, z0, z1)
+                    slab(
+                        f"divider_{b}_{c}", (xs[c] - t / 2, y0, z0), (xs[c] + t / 2, y1 - inset, z1)
+                    )
                 )
     return _finish(parts, h)
 
@@ -445,36 +426,36 @@ def tv_stand(
     """
     w, d, h = size
     t = _board_thickness(w, d, h) * rng.uniform(0.9, 1.1)
-    top_t = min(_clip(1.3 * t, 0.018, MAX_TOP_M), 0.15 * h)
+    top_t = min(clip(1.3 * t, 0.018, MAX_TOP_M), 0.15 * h)
     x0, x1, y0, y1 = -w / 2, w / 2, -d / 2, d / 2
     parts: list[Part] = []
     if style == 1:
-        leg = min(_clip(0.07 * min(w, d), 0.025, 0.06), 0.3 * d)
-        bottom = _clip(0.25 * h, 0.06, 0.2) * rng.uniform(0.85, 1.15)
+        leg = min(clip(0.07 * min(w, d), 0.025, 0.06), 0.3 * d)
+        bottom = clip(0.25 * h, 0.06, 0.2) * rng.uniform(0.85, 1.15)
         levels = _levels(h, t, bottom, support_heights, rng, max_gaps=2)
         parts += _corner_legs(x0, x1, y0, y1, h - top_t, leg, taper=False)
         parts += _tier_boards(levels, x0, x1, y0, y1)
-        parts.append(_box("top", x0, x1, y0, y1, h - top_t, h))
+        parts.append(slab("top", (x0, y0, h - top_t), (x1, y1, h)))
         return _finish(parts, h)
 
     front = _Front.at(y1, d)
-    back_t = _clip(0.3 * t, 0.004, 0.01)
+    back_t = clip(0.3 * t, 0.004, 0.01)
     # the open console runs to the box front; style 2's carcass stops behind its drawer fronts
     y_body = y1 if style == 0 else front.y_carcass
-    base = _clip(0.06 * h, 0.02, 0.06) if style == 0 else _clip(0.2 * h, 0.05, 0.15)
+    base = clip(0.06 * h, 0.02, 0.06) if style == 0 else clip(0.2 * h, 0.05, 0.15)
     levels = _levels(h, t, base * rng.uniform(0.85, 1.15) + t, support_heights, rng, max_gaps=2)
     xi0, xi1 = x0 + t, x1 - t
     ceiling = h - top_t
     bays = _bays(levels, ceiling)
     z_side = 0.0 if style == 0 else levels[0].bottom
     parts += _sides(x0, x1, t, y0, y_body, z_side, ceiling)
-    parts.append(_box("back", xi0, xi1, y0, y0 + back_t, z_side, ceiling))
+    parts.append(slab("back", (xi0, y0, z_side), (xi1, y0 + back_t, ceiling)))
     parts += _tier_boards(levels, xi0, xi1, y0 + back_t, y_body)
-    parts.append(_box("top", x0, x1, y0, y1, ceiling, h))
+    parts.append(slab("top", (x0, y0, ceiling), (x1, y1, h)))
     if style == 0:
         if levels[0].bottom > MIN_BOARD_M:
             parts.append(
-                _box("plinth", xi0, xi1, y0 + back_t, y_body - 0.02, 0.0, levels[0].bottom)
+                slab("plinth", (xi0, y0 + back_t, 0.0), (xi1, y_body - 0.02, levels[0].bottom))
             )
         # vertical dividers split a long console into compartments
         cols = int(np.clip(round(w / rng.uniform(0.5, 0.7)), 1, 4))
@@ -482,29 +463,25 @@ def tv_stand(
         for b, (z0, z1, _) in enumerate(bays):
             for c in range(1, cols):
                 parts.append(
-                    _box(
+                    slab(
                         f"divider_{b}_{c}",
-                        xs[c] - t / 2,
-                        xs[c] + t / 2,
-                        y0 + back_t,
-                        y_body,
-                        z0,
-                        z1,
+                        (xs[c] - t / 2, y0 + back_t, z0),
+                        (xs[c] + t / 2, y_body, z1),
                     )
                 )
         return _finish(parts, h)
 
     # style 2: short legs; a drawer band hangs under the top when the top bay is tall enough
     # to keep an open shelf below it
-    leg = min(_clip(0.05 * min(w, d), 0.02, 0.05), 0.3 * d)
+    leg = min(clip(0.05 * min(w, d), 0.02, 0.05), 0.3 * d)
     if levels[0].bottom > MIN_BOARD_M:
         parts += _corner_legs(
             x0 + t, x1 - t, y0, front.y_carcass, levels[0].bottom, leg, taper=True
         )
     z0, z1, _ = bays[-1]
-    band = _clip(0.3 * (h - levels[0].top), 0.08, 0.16)
+    band = clip(0.3 * (h - levels[0].top), 0.08, 0.16)
     if z1 - z0 >= band + 0.1:
-        parts.append(_box("drawer_body", xi0, xi1, y0 + back_t, front.y_carcass, z1 - band, z1))
+        parts.append(slab("drawer_body", (xi0, y0 + back_t, z1 - band), (xi1, front.y_carcass, z1)))
         cols = int(np.clip(round(w / 0.5), 1, 4))
         xs = _splits(x0, x1, [1.0] * cols)
         for c in range(cols):
@@ -522,10 +499,10 @@ def cart(
     cart (square legs, flat boards, a towel-bar handle on the +x side).
     """
     w, d, h = size
-    t = min(_clip(0.04 * min(w, d), 0.012, 0.03), 0.08 * h)
-    wheel_r = min(_clip(0.04 * h, 0.02, 0.045), 0.2 * min(w, d)) * rng.uniform(0.9, 1.1)
-    fork = _clip(0.5 * wheel_r, 0.01, 0.02)
-    bottom = 2 * wheel_r + fork + _clip(0.1 * h, 0.04, 0.12) + t
+    t = min(clip(0.04 * min(w, d), 0.012, 0.03), 0.08 * h)
+    wheel_r = min(clip(0.04 * h, 0.02, 0.045), 0.2 * min(w, d)) * rng.uniform(0.9, 1.1)
+    fork = clip(0.5 * wheel_r, 0.01, 0.02)
+    bottom = 2 * wheel_r + fork + clip(0.1 * h, 0.04, 0.12) + t
     levels = _levels(h, t, bottom, support_heights, rng, max_gaps=2)
     levels.append(_Level(h, t, False))  # the top tier
     leg_z0 = 2 * wheel_r + fork
@@ -535,10 +512,10 @@ def cart(
         leg_z0 = min(2 * wheel_r + fork, levels[0].bottom)
 
     x0, x1, y0, y1 = -w / 2, w / 2, -d / 2, d / 2
-    handle = min(_clip(0.1 * w, 0.04, 0.08), 0.25 * w) if style == 1 else 0.0
+    handle = min(clip(0.1 * w, 0.04, 0.08), 0.25 * w) if style == 1 else 0.0
     xt1 = x1 - handle
-    post = min(_clip(0.05 * min(w, d), 0.02, 0.045), 0.2 * w, 0.2 * d)
-    wheel_w = _clip(0.6 * wheel_r, 0.012, 0.025)
+    post = min(clip(0.05 * min(w, d), 0.02, 0.045), 0.2 * w, 0.2 * d)
+    wheel_w = clip(0.6 * wheel_r, 0.012, 0.025)
     # legs sit far enough in that the wheels stay inside the box
     ix = max(post / 2, wheel_w / 2)
     iy = max(post / 2, wheel_r)
@@ -564,37 +541,33 @@ def cart(
         )
         fw = min(post, 1.2 * wheel_w + 0.006) / 2
         parts.append(
-            _box(
+            slab(
                 f"caster_{i}",
-                cx - fw,
-                cx + fw,
-                cy - fw,
-                cy + fw,
-                wheel_r,
-                max(leg_z0, wheel_r + 1e-3),
+                (cx - fw, cy - fw, wheel_r),
+                (cx + fw, cy + fw, max(leg_z0, wheel_r + 1e-3)),
             )
         )
     for i, lv in enumerate(levels):
         name = "top" if i == len(levels) - 1 else f"tier_{i}"
-        parts.append(_box(name, x0, xt1, y0, y1, lv.bottom, lv.top))
+        parts.append(slab(name, (x0, y0, lv.bottom), (xt1, y1, lv.top)))
         if style == 0 and i < len(levels) - 1:
             gap = levels[i + 1].bottom - lv.top
-            lip = min(_clip(0.12 * gap, 0.015, 0.05), 0.4 * gap)
+            lip = min(clip(0.12 * gap, 0.015, 0.05), 0.4 * gap)
             lw = min(0.6 * t, 0.012)
             z0, z1 = lv.top, lv.top + lip
             parts += [
-                _box(f"tier_{i}_lip_front", x0, xt1, y1 - lw, y1, z0, z1),
-                _box(f"tier_{i}_lip_back", x0, xt1, y0, y0 + lw, z0, z1),
-                _box(f"tier_{i}_lip_left", x0, x0 + lw, y0 + lw, y1 - lw, z0, z1),
-                _box(f"tier_{i}_lip_right", xt1 - lw, xt1, y0 + lw, y1 - lw, z0, z1),
+                slab(f"tier_{i}_lip_front", (x0, y1 - lw, z0), (xt1, y1, z1)),
+                slab(f"tier_{i}_lip_back", (x0, y0, z0), (xt1, y0 + lw, z1)),
+                slab(f"tier_{i}_lip_left", (x0, y0 + lw, z0), (x0 + lw, y1 - lw, z1)),
+                slab(f"tier_{i}_lip_right", (xt1 - lw, y0 + lw, z0), (xt1, y1 - lw, z1)),
             ]
     if style == 1:
-        r = _clip(0.3 * handle, 0.008, 0.016)
+        r = clip(0.3 * handle, 0.008, 0.016)
         zc = h - r
         arm = min(r, t / 2)
         for i, cy in enumerate((y0 + iy, y1 - iy)):
             parts.append(
-                _box(f"handle_arm_{i}", xt1, x1 - r, cy - arm, cy + arm, zc - arm, zc + arm)
+                slab(f"handle_arm_{i}", (xt1, cy - arm, zc - arm), (x1 - r, cy + arm, zc + arm))
             )
         parts.append(
             Part(
@@ -631,13 +604,13 @@ def _closed_carcass(
     of the closed bays, each covering its floor board's front edge."""
     yf = front.y_carcass
     parts += _sides(x0, x1, side_t, y0, yf, z_side, ceiling)
-    parts.append(_box("back", x0 + side_t, x1 - side_t, y0, y0 + back_t, z_side, ceiling))
+    parts.append(slab("back", (x0 + side_t, y0, z_side), (x1 - side_t, y0 + back_t, ceiling)))
     parts += _tier_boards(levels, x0 + side_t, x1 - side_t, y0 + back_t, yf)
     slots = []
     for i, (lv, (z0, z1, is_open)) in enumerate(zip(levels, _bays(levels, ceiling))):
         if is_open or z1 - z0 < 0.02:
             continue
-        parts.append(_box(f"body_{i}", x0 + side_t, x1 - side_t, y0 + back_t, yf, z0, z1))
+        parts.append(slab(f"body_{i}", (x0 + side_t, y0 + back_t, z0), (x1 - side_t, yf, z1)))
         slots.append((lv.bottom, z1))
     return slots
 
@@ -663,10 +636,10 @@ def _base(
     if z_top <= MIN_BOARD_M:
         return
     if style_legs:
-        leg = min(_clip(0.05 * min(x1 - x0, y1 - y0), 0.025, 0.05), 0.25 * (y1 - y0))
+        leg = min(clip(0.05 * min(x1 - x0, y1 - y0), 0.025, 0.05), 0.25 * (y1 - y0))
         parts += _corner_legs(x0, x1, y0, y1, z_top, leg, taper=taper)
     else:
-        parts.append(_box("plinth", x0, x1, y0, y1 - recess, 0.0, z_top))
+        parts.append(slab("plinth", (x0, y0, 0.0), (x1, y1 - recess, z_top)))
 
 
 @register("dresser", variants=2, fits_support_heights=True)
@@ -681,11 +654,11 @@ def dresser(
     w, d, h = size
     front = _Front.at(d / 2, d)
     t = _board_thickness(w, d, h)
-    top_t = min(_clip(0.035 * min(w, d) + 0.01, 0.018, MAX_TOP_M), 0.1 * h)
-    overhang = _clip(0.012 * w, 0.0, 0.015) * rng.uniform(0.5, 1.0)
+    top_t = min(clip(0.035 * min(w, d) + 0.01, 0.018, MAX_TOP_M), 0.1 * h)
+    overhang = clip(0.012 * w, 0.0, 0.015) * rng.uniform(0.5, 1.0)
     x0, x1, y0 = -w / 2 + overhang, w / 2 - overhang, -d / 2
     legs = style == 1
-    base = _clip(0.15 * h, 0.08, 0.2) if legs else _clip(0.07 * h, 0.03, 0.09)
+    base = clip(0.15 * h, 0.08, 0.2) if legs else clip(0.07 * h, 0.03, 0.09)
     base *= rng.uniform(0.85, 1.15)
     levels = _levels(h, t, base + t, support_heights, rng, max_gaps=1)
     ceiling = h - top_t
@@ -699,11 +672,11 @@ def dresser(
         y0,
         front,
         t,
-        _clip(0.3 * t, 0.004, 0.01),
+        clip(0.3 * t, 0.004, 0.01),
         0.0 if not legs else levels[0].bottom,
     )
     _base(parts, legs, x0, x1, y0, front.y_carcass, levels[0].bottom, 0.02, taper=True)
-    parts.append(_box("top", -w / 2, w / 2, y0, _top_front(front, bool(slots)), ceiling, h))
+    parts.append(slab("top", (-w / 2, y0, ceiling), (w / 2, _top_front(front, bool(slots)), h)))
     row_h = rng.uniform(0.17, 0.24)
     # legs style: a grid of drawer columns; plinth style: only a wide chest's top row splits
     max_cols = (3 if w > 1.6 else 2 if w > 1.0 else 1) if legs else (2 if w > 0.8 else 1)
@@ -734,11 +707,11 @@ def cabinet(
     w, d, h = size
     front = _Front.at(d / 2, d)
     t = _board_thickness(w, d, h)
-    top_t = min(_clip(0.035 * min(w, d) + 0.01, 0.018, MAX_TOP_M), 0.1 * h)
-    overhang = _clip(0.012 * w, 0.0, 0.015) * rng.uniform(0.5, 1.0)
+    top_t = min(clip(0.035 * min(w, d) + 0.01, 0.018, MAX_TOP_M), 0.1 * h)
+    overhang = clip(0.012 * w, 0.0, 0.015) * rng.uniform(0.5, 1.0)
     x0, x1, y0 = -w / 2 + overhang, w / 2 - overhang, -d / 2
     legs = style == 0
-    base = _clip(0.12 * h, 0.06, 0.2) if legs else _clip(0.07 * h, 0.03, 0.1)
+    base = clip(0.12 * h, 0.06, 0.2) if legs else clip(0.07 * h, 0.03, 0.1)
     base *= rng.uniform(0.85, 1.15)
     levels = _levels(h, t, base + t, support_heights, rng, max_gaps=1)
     ceiling = h - top_t
@@ -752,16 +725,16 @@ def cabinet(
         y0,
         front,
         t,
-        _clip(0.3 * t, 0.004, 0.01),
+        clip(0.3 * t, 0.004, 0.01),
         levels[0].bottom if legs else 0.0,
     )
     _base(parts, legs, x0, x1, y0, front.y_carcass, levels[0].bottom, 0.02)
-    parts.append(_box("top", -w / 2, w / 2, y0, _top_front(front, bool(slots)), ceiling, h))
+    parts.append(slab("top", (-w / 2, y0, ceiling), (w / 2, _top_front(front, bool(slots)), h)))
     n_doors = int(np.clip(round((x1 - x0) / rng.uniform(0.4, 0.5)), 1, 6))
     for s, (z0, z1) in enumerate(slots):
         handle_z = 1.0 if z1 - z0 > 1.0 else z1  # tall doors: at hand height
         if not legs and z1 - z0 >= 0.45:
-            band = _clip(0.2 * (z1 - z0), 0.1, 0.18)
+            band = clip(0.2 * (z1 - z0), 0.1, 0.18)
             xs = _splits(x0, x1, [1.0] * n_doors)
             for c in range(n_doors):
                 parts += front.drawer(
@@ -785,26 +758,26 @@ def counter_top(
     alternating with door columns.
     """
     w, d, h = size
-    slab = min(_clip(0.05 * d, 0.025, MAX_TOP_M), 0.1 * h) * rng.uniform(0.9, 1.1)
+    top_t = min(clip(0.05 * d, 0.025, MAX_TOP_M), 0.1 * h) * rng.uniform(0.9, 1.1)
     # handles stop just short of the slab's front edge: the overhang protects them
-    front = _Front.at(d / 2 - _clip(0.01 * d, 0.003, 0.008), d)
+    front = _Front.at(d / 2 - clip(0.01 * d, 0.003, 0.008), d)
     t = _board_thickness(w, d, h)
     x0, x1, y0 = -w / 2, w / 2, -d / 2
-    kick = _clip(0.11 * h, 0.04, 0.12) * rng.uniform(0.9, 1.1)
+    kick = clip(0.11 * h, 0.04, 0.12) * rng.uniform(0.9, 1.1)
     levels = _levels(h, t, kick + t, support_heights, rng, max_gaps=1)
-    ceiling = h - slab
+    ceiling = h - top_t
     parts: list[Part] = []
     slots = _closed_carcass(
-        parts, levels, ceiling, x0, x1, y0, front, t, _clip(0.3 * t, 0.004, 0.01), 0.0
+        parts, levels, ceiling, x0, x1, y0, front, t, clip(0.3 * t, 0.004, 0.01), 0.0
     )
-    recess = min(_clip(0.1 * d, 0.03, 0.07), 0.3 * (front.y_carcass - y0))
+    recess = min(clip(0.1 * d, 0.03, 0.07), 0.3 * (front.y_carcass - y0))
     _base(parts, False, x0 + t, x1 - t, y0, front.y_carcass, levels[0].bottom, recess)
-    parts.append(_box("top", x0, x1, y0, d / 2, ceiling, h))
+    parts.append(slab("top", (x0, y0, ceiling), (x1, d / 2, h)))
     cols = int(np.clip(round(w / rng.uniform(0.45, 0.6)), 1, 8))
     xs = _splits(x0, x1, [1.0] * cols)
     sides = _door_sides(cols)
     for s, (z0, z1) in enumerate(slots):
-        band = _clip(0.22 * (z1 - z0), 0.1, 0.18)
+        band = clip(0.22 * (z1 - z0), 0.1, 0.18)
         for c in range(cols):
             name = f"{s}_{c}"
             stack = style == 2 and c % 2 == 0
@@ -843,19 +816,23 @@ def wardrobe(
         # two door planes: the rear door's panel sits a panel thickness further back
         panel = front.y_face - front.y_carcass
         front = _Front(front.y_carcass - panel, front.y_face, front.y_handle, front.grip)
-    plinth = min(_clip(0.05 * h, 0.04, 0.1), 0.1 * h) * rng.uniform(0.85, 1.15)
-    cornice = min(_clip(0.025 * h, 0.025, 0.06), 0.1 * h) * rng.uniform(0.85, 1.15)
-    overhang = _clip(0.01 * w, 0.005, 0.02)
+    plinth = min(clip(0.05 * h, 0.04, 0.1), 0.1 * h) * rng.uniform(0.85, 1.15)
+    cornice = min(clip(0.025 * h, 0.025, 0.06), 0.1 * h) * rng.uniform(0.85, 1.15)
+    overhang = clip(0.01 * w, 0.005, 0.02)
     x0, x1, y0 = -w / 2 + overhang, w / 2 - overhang, -d / 2
     parts: list[Part] = [
-        _box("plinth", x0, x1, y0, front.y_carcass - 0.03, 0.0, plinth),
-        _box("body", x0, x1, y0, front.y_carcass, plinth, h - cornice),
-        _box("top", -w / 2, w / 2, y0, front.y_face + 0.3 * (d / 2 - front.y_face), h - cornice, h),
+        slab("plinth", (x0, y0, 0.0), (x1, front.y_carcass - 0.03, plinth)),
+        slab("body", (x0, y0, plinth), (x1, front.y_carcass, h - cornice)),
+        slab(
+            "top",
+            (-w / 2, y0, h - cornice),
+            (w / 2, front.y_face + 0.3 * (d / 2 - front.y_face), h),
+        ),
     ]
     z0, z1 = plinth, h - cornice
     if style == 2:
         panel = (front.y_face - front.y_carcass) / 2
-        overlap = _clip(0.04 * w, 0.03, 0.08)
+        overlap = clip(0.04 * w, 0.03, 0.08)
         xm = (x0 + x1) / 2
         rear = _Front(front.y_carcass, front.y_carcass + panel, front.y_handle - panel, front.grip)
         fore = _Front(front.y_carcass + panel, front.y_face, front.y_handle, front.grip)
@@ -864,7 +841,7 @@ def wardrobe(
         return _finish(parts, h)
     n_doors = int(np.clip(round((x1 - x0) / rng.uniform(0.45, 0.6)), 1, 5))
     if style == 1:
-        band = min(_clip(0.14 * h, 0.15, 0.35), 0.3 * h)
+        band = min(clip(0.14 * h, 0.15, 0.35), 0.3 * h)
         rows = 1 if band < 0.25 else 2
         zs = _splits(z0 + band, z0, [1.0] * rows)
         xs = _splits(x0, x1, [1.0] * min(n_doors, 2))
@@ -891,17 +868,19 @@ def fridge(
     with a dispenser panel.
     """
     w, d, h = size
-    handle = min(_clip(0.04 * d, 0.02, 0.028), 0.15 * d)  # under 3 cm: no shelf on top
-    door_t = min(_clip(0.08 * d, 0.025, 0.07), 0.2 * d)
+    handle = min(clip(0.04 * d, 0.02, 0.028), 0.15 * d)  # under 3 cm: no shelf on top
+    door_t = min(clip(0.08 * d, 0.025, 0.07), 0.2 * d)
     y_handle = d / 2
     yf = y_handle - handle - door_t
-    front = _Front(yf, y_handle - handle, y_handle, min(_clip(0.04 * w, 0.018, 0.03), 0.2 * w))
-    kick = min(_clip(0.05 * h, 0.03, 0.09), 0.1 * h)
+    front = _Front(yf, y_handle - handle, y_handle, min(clip(0.04 * w, 0.018, 0.03), 0.2 * w))
+    kick = min(clip(0.05 * h, 0.03, 0.09), 0.1 * h)
     x0, x1, y0 = -w / 2, w / 2, -d / 2
     parts: list[Part] = [
-        _box("body", x0, x1, y0, yf, 0.0, h),
-        _box(
-            "grille", x0 + 0.05 * w, x1 - 0.05 * w, yf - 0.01, yf + 0.5 * door_t, 0.2 * kick, kick
+        slab("body", (x0, y0, 0.0), (x1, yf, h)),
+        slab(
+            "grille",
+            (x0 + 0.05 * w, yf - 0.01, 0.2 * kick),
+            (x1 - 0.05 * w, yf + 0.5 * door_t, kick),
         ),
     ]
     z0, z1 = kick, h
@@ -909,7 +888,7 @@ def fridge(
     grip = front.grip
 
     def bar(name: str, x: float, za: float, zb: float) -> Part:
-        return _box(name, x - grip / 2, x + grip / 2, front.y_face, y_handle, za, zb)
+        return slab(name, (x - grip / 2, front.y_face, za), (x + grip / 2, y_handle, zb))
 
     if style == 2:
         xm = x0 + w * rng.uniform(0.42, 0.48)
@@ -926,14 +905,10 @@ def fridge(
         dz = z0 + 0.55 * (z1 - z0)
         dw = min(0.12, 0.25 * (xm - x0))
         parts.append(
-            _box(
+            slab(
                 "dispenser",
-                (x0 + xm) / 2 - dw,
-                (x0 + xm) / 2 + dw,
-                front.y_face,
-                front.y_face + 0.4 * handle,
-                dz,
-                dz + min(0.25, 0.15 * h),
+                ((x0 + xm) / 2 - dw, front.y_face, dz),
+                ((x0 + xm) / 2 + dw, front.y_face + 0.4 * handle, dz + min(0.25, 0.15 * h)),
             )
         )
         return _finish(parts, h)
@@ -949,9 +924,9 @@ def fridge(
     else:
         parts.append(bar("handle_upper", xh, split + gap, split + min(0.5, 0.5 * (z1 - split))))
         hw = min(0.3 * w, 0.25)
-        zt = split - min(_clip(0.08 * (split - z0), 0.03, 0.08), 0.3 * (split - z0))
+        zt = split - min(clip(0.08 * (split - z0), 0.03, 0.08), 0.3 * (split - z0))
         gz = min(grip, 0.3 * (split - z0))
-        parts.append(_box("handle_lower", -hw, hw, front.y_face, y_handle, zt - gz, zt))
+        parts.append(slab("handle_lower", (-hw, front.y_face, zt - gz), (hw, y_handle, zt)))
     return _finish(parts, h)
 
 
@@ -965,25 +940,25 @@ def safe(
     lever handle, on four feet.
     """
     w, d, h = size
-    hw = min(_clip(0.08 * d, 0.02, 0.06), 0.2 * d)
-    door_t = min(_clip(0.05 * d, 0.012, 0.04), 0.1 * d)
+    hw = min(clip(0.08 * d, 0.02, 0.06), 0.2 * d)
+    door_t = min(clip(0.05 * d, 0.012, 0.04), 0.1 * d)
     y_hw = d / 2
     yf = y_hw - hw - door_t
     yd = yf + door_t
     x0, x1, y0 = -w / 2, w / 2, -d / 2
-    feet = _clip(0.04 * h, 0.015, 0.04) if style == 1 else 0.0
-    m = _clip(0.08 * min(w, h), 0.015, 0.06) * rng.uniform(0.9, 1.1)
-    parts: list[Part] = [_box("body", x0, x1, y0, yf, feet, h)]
+    feet = clip(0.04 * h, 0.015, 0.04) if style == 1 else 0.0
+    m = clip(0.08 * min(w, h), 0.015, 0.06) * rng.uniform(0.9, 1.1)
+    parts: list[Part] = [slab("body", (x0, y0, feet), (x1, yf, h))]
     if feet:
-        f = _clip(0.1 * min(w, d), 0.02, 0.05)  # foot side
+        f = clip(0.1 * min(w, d), 0.02, 0.05)  # foot side
         ym = (yf + y0) / 2
         for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (1, 1), (-1, 1)]):
             cx, cy = sx * (w / 2 - f), ym + sy * ((yf - y0) / 2 - f)
             parts.append(
-                _box(f"foot_{i}", cx - f / 2, cx + f / 2, cy - f / 2, cy + f / 2, 0.0, feet)
+                slab(f"foot_{i}", (cx - f / 2, cy - f / 2, 0.0), (cx + f / 2, cy + f / 2, feet))
             )
     dx0, dx1, dz0, dz1 = x0 + m, x1 - m, feet + m, h - m
-    parts.append(_box("door", dx0, dx1, yf, yd, dz0, dz1))
+    parts.append(slab("door", (dx0, yf, dz0), (dx1, yd, dz1)))
     dw, dh = dx1 - dx0, dz1 - dz0
     cx, cz = (dx0 + dx1) / 2, (dz0 + dz1) / 2
     s = min(dw, dh)
@@ -1010,7 +985,7 @@ def safe(
                     (hub_x, yd + 0.3 * hw, hub_z),
                     hub_r,
                     0.6 * hw,
-                    segments=KNOB_SEGMENTS,
+                    segments=ROD_SEGMENTS,
                     rotation=_Z_TO_Y,
                 ),
             )
@@ -1025,14 +1000,16 @@ def safe(
             parts.append(
                 Part(
                     f"hinge_{k}",
-                    cylinder((dx0, yd - hinge_r, z), hinge_r, 0.12 * dh, segments=KNOB_SEGMENTS),
+                    cylinder((dx0, yd - hinge_r, z), hinge_r, 0.12 * dh, segments=ROD_SEGMENTS),
                 )
             )
     else:
         kw, kh = 0.2 * s, 0.26 * s
         kx, kz = cx + 0.2 * dw, cz + 0.15 * dh
         parts.append(
-            _box("keypad", kx - kw / 2, kx + kw / 2, yd, yd + 0.35 * hw, kz - kh / 2, kz + kh / 2)
+            slab(
+                "keypad", (kx - kw / 2, yd, kz - kh / 2), (kx + kw / 2, yd + 0.35 * hw, kz + kh / 2)
+            )
         )
         lever_z = cz - 0.15 * dh
         parts.append(
@@ -1042,21 +1019,17 @@ def safe(
                     (kx, yd + 0.5 * hw, lever_z),
                     0.05 * s,
                     hw,
-                    segments=KNOB_SEGMENTS,
+                    segments=ROD_SEGMENTS,
                     rotation=_Z_TO_Y,
                 ),
             )
         )
         grip = 0.035 * s
         parts.append(
-            _box(
+            slab(
                 "handle",
-                kx - 0.3 * s,
-                kx,
-                y_hw - 0.4 * hw,
-                y_hw,
-                lever_z - grip / 2,
-                lever_z + grip / 2,
+                (kx - 0.3 * s, y_hw - 0.4 * hw, lever_z - grip / 2),
+                (kx, y_hw, lever_z + grip / 2),
             )
         )
     return _finish(parts, h)
@@ -1073,8 +1046,8 @@ def laundry_hamper(
     """
     w, d, h = size
     if style == 0:
-        lid = _clip(0.05 * h, 0.015, 0.04)
-        knob = _clip(0.05 * h, 0.012, 0.035)
+        lid = clip(0.05 * h, 0.015, 0.04)
+        knob = clip(0.05 * h, 0.012, 0.035)
         zb = h - lid - knob
         taper = rng.uniform(0.78, 0.88)
         rt = np.array([0.96 * w / 2, 0.96 * d / 2])
@@ -1083,17 +1056,17 @@ def laundry_hamper(
             Part("lid", frustum((0.0, 0.0, zb), lid, (w / 2, d / 2), (0.97 * w / 2, 0.97 * d / 2))),
             Part(
                 "knob",
-                cylinder((0.0, 0.0, h - knob / 2), 0.12 * min(w, d), knob, segments=KNOB_SEGMENTS),
+                cylinder((0.0, 0.0, h - knob / 2), 0.12 * min(w, d), knob, segments=ROD_SEGMENTS),
             ),
             Part("rim", frustum((0.0, 0.0, zb - 0.04 * h), 0.04 * h, rt * 1.01, rt * 1.01)),
         ]
         return _finish(parts, h)
-    grip = _clip(0.05 * w, 0.015, 0.03)
-    wall = _clip(0.03 * min(w, d), 0.006, 0.015)
+    grip = clip(0.05 * w, 0.015, 0.03)
+    wall = clip(0.03 * min(w, d), 0.006, 0.015)
     tx, ty = w / 2 - grip, d / 2
     taper = rng.uniform(0.82, 0.9)
     bx, by = tx * taper, ty * taper
-    parts = [_box("bottom", -bx, bx, -by, by, 0.0, wall)]
+    parts = [slab("bottom", (-bx, -by, 0.0), (bx, by, wall))]
     for name, sy in (("wall_front", 1), ("wall_back", -1)):
         pts = [
             (sx * x, sy * (y - k), z)
@@ -1110,19 +1083,15 @@ def laundry_hamper(
             for k in (0.0, wall)
         ]
         parts.append(Part(name, hull(pts)))
-        gz = h - _clip(0.12 * h, 0.03, 0.08)
-        gw = _clip(0.25 * d, 0.05, 0.12) / 2
-        gh = _clip(0.025 * h, 0.01, 0.02)
+        gz = h - clip(0.12 * h, 0.03, 0.08)
+        gw = clip(0.25 * d, 0.05, 0.12) / 2
+        gh = clip(0.025 * h, 0.01, 0.02)
         xo = sx * tx
         parts.append(
-            _box(
+            slab(
                 f"grip_{'left' if sx < 0 else 'right'}",
-                min(xo, sx * w / 2),
-                max(xo, sx * w / 2),
-                -gw,
-                gw,
-                gz - gh,
-                gz + gh,
+                (min(xo, sx * w / 2), -gw, gz - gh),
+                (max(xo, sx * w / 2), gw, gz + gh),
             )
         )
     return _finish(parts, h)
@@ -1162,7 +1131,7 @@ def garbage_can(
     w, d, h = size
     taper = rng.uniform(0.75, 0.85)
     if style == 0:
-        wall = _clip(0.03 * min(w, d), 0.004, 0.012)
+        wall = clip(0.03 * min(w, d), 0.004, 0.012)
         parts = _tapered_walls(taper * w / 2, taper * d / 2, w / 2, d / 2, h, wall)
         parts.append(
             Part(
@@ -1177,8 +1146,8 @@ def garbage_can(
         )
         return _finish(parts, h)
     if style == 1:
-        pedal = _clip(0.12 * d, 0.02, 0.05)
-        lid = _clip(0.1 * h, 0.02, 0.06)
+        pedal = clip(0.12 * d, 0.02, 0.05)
+        lid = clip(0.1 * h, 0.02, 0.06)
         ry = d / 2 - pedal / 2
         cy = -pedal / 2
         zb = h - lid
@@ -1186,19 +1155,15 @@ def garbage_can(
         parts = [
             Part("body", frustum((0.0, cy, 0.0), zb, top * max(taper, 0.85), top)),
             Part("lid", frustum((0.0, cy, zb), lid, top, 0.7 * top)),
-            _box(
+            slab(
                 "pedal",
-                -0.25 * w,
-                0.25 * w,
-                cy + ry - pedal,
-                d / 2,
-                0.0,
-                _clip(0.05 * h, 0.012, 0.03),
+                (-0.25 * w, cy + ry - pedal, 0.0),
+                (0.25 * w, d / 2, clip(0.05 * h, 0.012, 0.03)),
             ),
         ]
         return _finish(parts, h)
-    grip = _clip(0.06 * d, 0.012, 0.025)
-    lid = _clip(0.08 * h, 0.02, 0.05)
+    grip = clip(0.06 * d, 0.012, 0.025)
+    lid = clip(0.08 * h, 0.02, 0.05)
     zb = h - lid
     ty = (d - grip) / 2
     cy = -grip / 2
@@ -1208,11 +1173,11 @@ def garbage_can(
         for sy in (-1, 1)
         for a, b, z in ((taper * w / 2, taper * ty, 0.0), (w / 2, ty, zb))
     ]
-    gw = _clip(0.3 * w, 0.05, 0.15) / 2
+    gw = clip(0.3 * w, 0.05, 0.15) / 2
     parts = [
         Part("body", hull(pts)),
-        _box("lid", -w / 2, w / 2, cy - ty, cy + ty, zb, h),
-        _box("grip", -gw, gw, cy + ty, d / 2, zb + 0.2 * lid, h - 0.2 * lid),
+        slab("lid", (-w / 2, cy - ty, zb), (w / 2, cy + ty, h)),
+        slab("grip", (-gw, cy + ty, zb + 0.2 * lid), (gw, d / 2, h - 0.2 * lid)),
     ]
     return _finish(parts, h)
 
@@ -1230,21 +1195,21 @@ def drawer(
     """
     w, d, h = size
     front = _Front.at(d / 2, d)
-    overlay = min(_clip(0.03 * w, 0.006, 0.02), 0.1 * w)
-    lift = min(_clip(0.08 * h, 0.004, 0.02), 0.15 * h)
-    drop = min(_clip(0.15 * h, 0.008, 0.03), 0.2 * h)
-    wall = min(_clip(0.03 * min(w, d), 0.006, 0.015), 0.1 * w)
+    overlay = min(clip(0.03 * w, 0.006, 0.02), 0.1 * w)
+    lift = min(clip(0.08 * h, 0.004, 0.02), 0.15 * h)
+    drop = min(clip(0.15 * h, 0.008, 0.03), 0.2 * h)
+    wall = min(clip(0.03 * min(w, d), 0.006, 0.015), 0.1 * w)
     x0, x1 = -w / 2 + overlay, w / 2 - overlay
     y0, y1 = -d / 2, front.y_carcass
     z0, z1 = lift, h - drop * rng.uniform(0.8, 1.0)
     parts = [
-        _box("bottom", x0, x1, y0, y1, z0, z0 + wall),
-        _box("side_left", x0, x0 + wall, y0, y1, z0, z1),
-        _box("side_right", x1 - wall, x1, y0, y1, z0, z1),
-        _box("back", x0 + wall, x1 - wall, y0, y0 + wall, z0, z1),
+        slab("bottom", (x0, y0, z0), (x1, y1, z0 + wall)),
+        slab("side_left", (x0, y0, z0), (x0 + wall, y1, z1)),
+        slab("side_right", (x1 - wall, y0, z0), (x1, y1, z1)),
+        slab("back", (x0 + wall, y0, z0), (x1 - wall, y0 + wall, z1)),
     ]
     # the front panel fills the whole box face: the part is the drawer, not its slot
-    parts.append(_box("front", -w / 2, w / 2, front.y_carcass, front.y_face, 0.0, h))
+    parts.append(slab("front", (-w / 2, front.y_carcass, 0.0), (w / 2, front.y_face, h)))
     parts += front.pull("drawer", -w / 2, w / 2, 0.0, h, knobs=style == 1)
     return _finish(parts, h)
 
@@ -1259,31 +1224,31 @@ def cabinet_door(
     panel) with a knob.
     """
     w, d, h = size
-    grip = _clip(0.45 * d, 0.004, 0.03)
+    grip = clip(0.45 * d, 0.004, 0.03)
     y0, yf = -d / 2, d / 2 - grip
-    margin = min(_clip(0.1 * w, 0.02, 0.05), 0.25 * w)
+    margin = min(clip(0.1 * w, 0.02, 0.05), 0.25 * w)
     x = w / 2 - margin
     if style == 0:
-        half_len = min(_clip(0.15 * h, 0.04, 0.2), 0.4 * h)
-        half_t = min(_clip(0.02 * w, 0.005, 0.009), 0.2 * margin)
+        half_len = min(clip(0.15 * h, 0.04, 0.2), 0.4 * h)
+        half_t = min(clip(0.02 * w, 0.005, 0.009), 0.2 * margin)
         zc = h / 2 + rng.uniform(-0.1, 0.1) * (h / 2 - half_len)
         return _finish(
             [
-                _box("panel", -w / 2, w / 2, y0, yf, 0.0, h),
-                _box("handle", x - half_t, x + half_t, yf, d / 2, zc - half_len, zc + half_len),
+                slab("panel", (-w / 2, y0, 0.0), (w / 2, yf, h)),
+                slab("handle", (x - half_t, yf, zc - half_len), (x + half_t, d / 2, zc + half_len)),
             ],
             h,
         )
-    f = min(_clip(0.12 * min(w, h), 0.02, 0.07), 0.3 * w, 0.3 * h) * rng.uniform(0.9, 1.1)
+    f = min(clip(0.12 * min(w, h), 0.02, 0.07), 0.3 * w, 0.3 * h) * rng.uniform(0.9, 1.1)
     recess = 0.4 * (yf - y0)
     x0, x1 = -w / 2, w / 2
     parts = [
-        _box("stile_left", x0, x0 + f, y0, yf, 0.0, h),
-        _box("stile_right", x1 - f, x1, y0, yf, 0.0, h),
-        _box("rail_bottom", x0 + f, x1 - f, y0, yf, 0.0, f),
-        _box("rail_top", x0 + f, x1 - f, y0, yf, h - f, h),
-        _box("panel", x0 + f, x1 - f, y0, yf - recess, f, h - f),
-        _knob("knob", x1 - f / 2, h / 2, min(_clip(0.05 * w, 0.008, 0.018), 0.45 * f), yf, d / 2),
+        slab("stile_left", (x0, y0, 0.0), (x0 + f, yf, h)),
+        slab("stile_right", (x1 - f, y0, 0.0), (x1, yf, h)),
+        slab("rail_bottom", (x0 + f, y0, 0.0), (x1 - f, yf, f)),
+        slab("rail_top", (x0 + f, y0, h - f), (x1 - f, yf, h)),
+        slab("panel", (x0 + f, y0, f), (x1 - f, yf - recess, h - f)),
+        _knob("knob", x1 - f / 2, h / 2, min(clip(0.05 * w, 0.008, 0.018), 0.45 * f), yf, d / 2),
     ]
     return _finish(parts, h)
 
@@ -1298,28 +1263,28 @@ def shelf(
     Styles: 0 plain board; 1 board with a lip.
     """
     w, d, h = size
-    board = min(_clip(0.06 * d, 0.012, 0.035), h)
+    board = min(clip(0.06 * d, 0.012, 0.035), h)
     lip = 0.0
     if style == 1:
         if h < 1.8 * board:  # too flat for a lip above a full board: share the height
             board = 0.5 * h
-        lip = min(_clip(0.15 * d, 0.012, 0.04), h - board)
+        lip = min(clip(0.15 * d, 0.012, 0.04), h - board)
     z_board = h - lip  # the board's upward face
     x0, x1, y0, y1 = -w / 2, w / 2, -d / 2, d / 2
-    parts = [_box("board", x0, x1, y0, y1, z_board - board, z_board)]
+    parts = [slab("board", (x0, y0, z_board - board), (x1, y1, z_board))]
     if lip > 0:
-        lw = min(_clip(0.3 * board, 0.006, 0.012), 0.1 * d)
+        lw = min(clip(0.3 * board, 0.006, 0.012), 0.1 * d)
         parts += [
-            _box("lip_front", x0, x1, y1 - lw, y1, z_board, h),
-            _box("lip_left", x0, x0 + lw, y0, y1 - lw, z_board, h),
-            _box("lip_right", x1 - lw, x1, y0, y1 - lw, z_board, h),
+            slab("lip_front", (x0, y1 - lw, z_board), (x1, y1, h)),
+            slab("lip_left", (x0, y0, z_board), (x0 + lw, y1 - lw, h)),
+            slab("lip_right", (x1 - lw, y0, z_board), (x1, y1 - lw, h)),
         ]
     below = z_board - board
     if below > 1e-6:
         # triangular brackets: a vertical edge on the wall, a horizontal one under the board
         reach = min(0.75 * d, max(below, 0.3 * d))
-        bt = min(_clip(0.02 * w, 0.01, 0.02), 0.1 * w)
-        inset = min(_clip(0.15 * w, 0.03, 0.2), 0.4 * w) * rng.uniform(0.9, 1.0)
+        bt = min(clip(0.02 * w, 0.01, 0.02), 0.1 * w)
+        inset = min(clip(0.15 * w, 0.03, 0.2), 0.4 * w) * rng.uniform(0.9, 1.0)
         for i, xc in enumerate((x0 + inset, x1 - inset)):
             pts = [
                 (xc + sx * bt / 2, y, z)

@@ -1,4 +1,7 @@
-"""Kitchen, tableware and food: small objects that rest on counters, tables and shelves.
+"""Tableware, bottles, utensils and cleaning things: small objects on counters and shelves.
+
+Kitchen appliances live in ``appliances.py``, food in ``food.py``; the shared helpers
+(``lathe``, ``beam``, ``rounded_outline`` ...) in ``shapes.py``.
 
 Every generator builds convex parts in metres inside [-size/2, size/2] (+z up,
 +y front, +x right). Round things fill the box with elliptic sections (radii
@@ -18,10 +21,7 @@ Orientation conventions used by this family (object front is +y):
 - utensils (fork, knife, butter knife, spoon, spatula, ladle) lie with their
   length along y, the working end (tines, blade, bowl) at +y and the handle at
   -y. Flat utensils whose box is taller than wide (a knife resting on its
-  spine, as some datasets store it) are built with the blade plane vertical;
-- the microwave's door, window and panel face +y (the panel at -x, on the right of
-  a person facing it); so do the coffee machine's carafe / portafilter and the
-  toaster's lever.
+  spine, as some datasets store it) are built with the blade plane vertical.
 """
 
 from __future__ import annotations
@@ -30,10 +30,20 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from pair2scene.assets.generators.shapes import (
+    FINE_SEGMENTS,
+    ROD_SEGMENTS,
+    beam,
+    box_handle,
+    ellipse_arc,
+    in_long_frame,
+    lathe,
+    rotate_parts,
+    rounded_outline,
+)
 from pair2scene.assets.mesh import (
     Mesh,
     Part,
-    box,
     box_between,
     cylinder,
     ellipsoid,
@@ -44,14 +54,9 @@ from pair2scene.assets.mesh import (
 from pair2scene.assets.mesh import rod as _rod
 from pair2scene.assets.registry import register
 from pair2scene.scene.geometry import rot_y as _rot_y
-from pair2scene.scene.geometry import rot_z as _rot_z
 
-ROUND = 16
-"""Sides of a round body (bottles, fruit): reads as round in a 256 px view."""
 SECTORS = 12
 """Wall sectors of a hollow vessel: round enough, and a modest part count (one part each)."""
-THIN = 8
-"""Sides of thin rods (stems, wicks, handles): they are a few pixels wide."""
 EDGE_RATIO = 1.2
 """A utensil box taller than this times its width holds the utensil on its edge."""
 UPRIGHT_RATIO = 0.8
@@ -82,77 +87,6 @@ def _frame(direction: np.ndarray) -> np.ndarray:
     e1 = np.cross(a, d)
     e1 /= np.linalg.norm(e1)
     return np.column_stack([e1, np.cross(d, e1), d])
-
-
-def _beam(
-    p0: Sequence[float],
-    p1: Sequence[float],
-    width: float,
-    thickness: float,
-    side: Sequence[float] = (0.0, 1.0, 0.0),
-) -> Mesh:
-    """Box from point p0 (3,) to p1 (3,): ``width`` along ``side`` (3,) (made orthogonal
-    to the beam), ``thickness`` across both."""
-    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    u = p1 - p0
-    length = float(np.linalg.norm(u))
-    u /= length
-    s = np.asarray(side, dtype=float)
-    s = s - (s @ u) * u
-    s /= np.linalg.norm(s)
-    rot = np.column_stack([u, s, np.cross(u, s)])
-    return box((p0 + p1) / 2, (length, width, thickness), rotation=rot)
-
-
-def _lathe(
-    center: Sequence[float],
-    rx: float,
-    ry: float,
-    profile: Sequence[Sequence[float]],
-    segments: int = ROUND,
-) -> Mesh:
-    """Solid of revolution with elliptic sections around a vertical axis.
-
-    center : (2,) axis position (x, y). profile : (K, 2) rows (r, z), z increasing; r is a
-    fraction of the radii (rx, ry); r == 0 at an end makes an apex. The solid is convex
-    when r is a concave function of z (bulging profiles, tapers, domes)."""
-    cx, cy = float(center[0]), float(center[1])
-    n = segments
-    a = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    ux, uy = rx * np.cos(a), ry * np.sin(a)
-    verts: list[np.ndarray] = []
-    rings: list[np.ndarray | int] = []  # vertex indices of each level, or an apex index
-    count = 0
-    z_ends = (float(profile[0][1]), float(profile[-1][1]))
-    for r, z in profile:
-        if r <= 0.0:
-            verts.append(np.array([[cx, cy, z]]))
-            rings.append(count)
-            count += 1
-        else:
-            verts.append(np.stack([cx + r * ux, cy + r * uy, np.full(n, float(z))], axis=1))
-            rings.append(np.arange(count, count + n))
-            count += n
-    faces: list[list[int]] = []
-    for lo, hi in zip(rings[:-1], rings[1:]):
-        for i in range(n):
-            j = (i + 1) % n
-            if isinstance(lo, int):
-                faces.append([lo, hi[j], hi[i]])
-            elif isinstance(hi, int):
-                faces.append([lo[i], lo[j], hi])
-            else:
-                faces += [[lo[i], lo[j], hi[j]], [lo[i], hi[j], hi[i]]]
-    for end, z, flip in ((rings[0], z_ends[0], True), (rings[-1], z_ends[1], False)):
-        if isinstance(end, int):
-            continue
-        c = count
-        verts.append(np.array([[cx, cy, z]]))
-        count += 1
-        for i in range(n):
-            j = (i + 1) % n
-            faces.append([c, end[j], end[i]] if flip else [c, end[i], end[j]])
-    return Mesh(np.concatenate(verts), np.array(faces))
 
 
 def _sector(
@@ -221,54 +155,7 @@ def _disc(
     return frustum((center[0], center[1], z0), z1 - z0, (rx, ry), (rx, ry), segments)
 
 
-def _rounded_rect(
-    x0: float,
-    x1: float,
-    y0: float,
-    y1: float,
-    radii: Sequence[float] | float,
-    corner_segments: int = 4,
-) -> np.ndarray:
-    """(N, 2) counter-clockwise convex outline of a rectangle with rounded corners.
-
-    radii : one radius or four, for corners (x1, y0), (x1, y1), (x0, y1), (x0, y0); 0 keeps
-    a corner sharp."""
-    r = np.broadcast_to(np.asarray(radii, dtype=float), (4,))
-    lim = 0.5 * min(x1 - x0, y1 - y0)
-    corners = ((x1, y0, -np.pi / 2), (x1, y1, 0.0), (x0, y1, np.pi / 2), (x0, y0, np.pi))
-    pts = []
-    for (cx, cy, start), rad in zip(corners, r):
-        rad = min(rad, lim)
-        sx = -1.0 if cx == x1 else 1.0
-        sy = -1.0 if cy == y1 else 1.0
-        if rad <= 0.0:
-            pts.append((cx, cy))
-            continue
-        ox, oy = cx + sx * rad, cy + sy * rad
-        for t in np.linspace(start, start + np.pi / 2, corner_segments + 1):
-            pts.append((ox + rad * np.cos(t), oy + rad * np.sin(t)))
-    p = np.array(pts)
-    # arcs meeting on a side shorter than two radii share a point: drop the repeat
-    keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > 1e-9
-    return p[keep]
-
-
-def _ellipse(
-    cx: float,
-    cy: float,
-    rx: float,
-    ry: float,
-    n: int = ROUND,
-    a0: float = 0.0,
-    a1: float = 2.0 * np.pi,
-    endpoint: bool = False,
-) -> np.ndarray:
-    """(n, 2) points on an ellipse arc from angle a0 to a1."""
-    a = np.linspace(a0, a1, n, endpoint=endpoint)
-    return np.stack([cx + rx * np.cos(a), cy + ry * np.sin(a)], axis=1)
-
-
-def _slab(points: Sequence[Sequence[float]], z0: float, z1: float) -> Mesh:
+def _extruded_hull(points: Sequence[Sequence[float]], z0: float, z1: float) -> Mesh:
     """Convex hull of a 2D outline (N, 2) extruded from z0 to z1 (outline order free)."""
     p = np.asarray(points, dtype=float)
     return hull(np.concatenate([np.c_[p, np.full(len(p), z0)], np.c_[p, np.full(len(p), z1)]]))
@@ -280,22 +167,6 @@ def _wall(rx: float, ry: float, frac: float = 0.06, lo: float = 0.002, hi: float
     return float(np.clip(frac * min(rx, ry), lo, hi))
 
 
-def _rotate_parts(parts: list[Part], rotation: np.ndarray) -> list[Part]:
-    return [Part(p.name, p.mesh.transformed(rotation)) for p in parts]
-
-
-def _in_long_frame(
-    size: np.ndarray, build: Callable[[float, float, float, bool], list[Part]]
-) -> list[Part]:
-    """Call ``build(length, width, height, turned)`` with the length along the box's longer
-    horizontal axis (built along x); ``turned`` is True when it is turned onto y (the
-    build's +x then ends up at +y, so a feature at +x faces the front)."""
-    sx, sy, sz = (float(v) for v in size)
-    if sx >= sy:
-        return build(sx, sy, sz, False)
-    return _rotate_parts(build(sy, sx, sz, True), _rot_z(np.pi / 2))
-
-
 def _flat_utensil(
     size: np.ndarray, build: Callable[[float, float, float], list[Part]]
 ) -> list[Part]:
@@ -304,7 +175,7 @@ def _flat_utensil(
     sx, sy, sz = (float(v) for v in size)
     if sz > EDGE_RATIO * sx:
         # the build's width (x) becomes the box height (z), its thickness the box width
-        return _rotate_parts(build(sz, sy, sx), _rot_y(np.pi / 2))
+        return rotate_parts(build(sz, sy, sx), _rot_y(np.pi / 2))
     return build(sx, sy, sz)
 
 
@@ -364,9 +235,10 @@ def cup(size, rng, style, support_heights):
     bowl_floor = 0.05 * h
     parts = [
         Part(
-            "foot", frustum((0, 0, z0), foot_h, (0.8 * rx, 0.8 * ry), (0.7 * rx, 0.7 * ry), ROUND)
+            "foot",
+            frustum((0, 0, z0), foot_h, (0.8 * rx, 0.8 * ry), (0.7 * rx, 0.7 * ry), FINE_SEGMENTS),
         ),
-        Part("stem", cylinder((0, 0, (z0 + z_bowl) / 2), stem_r, z_bowl - z0, THIN)),
+        Part("stem", cylinder((0, 0, (z0 + z_bowl) / 2), stem_r, z_bowl - z0, ROD_SEGMENTS)),
         # radii in proportion at both ends: a circle-to-ellipse frustum has warped sides
         Part(
             "bowl_base",
@@ -381,56 +253,6 @@ def cup(size, rng, style, support_heights):
     ]
     levels = [(rb, z_bowl), (1.0, z_bowl + 0.5 * (zt - z_bowl)), (0.9, zt)]
     return parts + _shell("wall", c, rx, ry, levels, t)
-
-
-def _mug_handle(
-    x_in: float,
-    x_out: float,
-    z_lo: float,
-    z_hi: float,
-    width: float,
-    bar: float,
-    rounded: bool,
-    y: float = 0.0,
-    prefix: str = "handle",
-) -> list[Part]:
-    """A mug handle in the xz plane at ``y`` from the body (x_in) out to x_out, made of
-    boxes: top arm, grip, bottom arm (and two chamfer boxes when ``rounded``)."""
-    parts = _mug_handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded)
-    return [
-        Part(p.name.replace("handle", prefix, 1), p.mesh.transformed(None, (0, y, 0)))
-        for p in parts
-    ]
-
-
-def _mug_handle_at_origin(x_in, x_out, z_lo, z_hi, width, bar, rounded):
-    """The boxes of ``_mug_handle`` at y = 0."""
-    hw = width / 2
-    if not rounded:
-        return [
-            Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out, hw, z_hi))),
-            Part("handle_grip", box_between((x_out - bar, -hw, z_lo), (x_out, hw, z_hi))),
-            Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out, hw, z_lo + bar))),
-        ]
-    ch = 0.45 * min(x_out - x_in, (z_hi - z_lo) / 2)
-    xm = x_out - bar / 2
-    return [
-        Part("handle_top", box_between((x_in, -hw, z_hi - bar), (x_out - ch, hw, z_hi))),
-        Part(
-            "handle_corner_top",
-            _beam(
-                (x_out - ch - bar / 4, 0, z_hi - bar / 2), (xm, 0, z_hi - ch + bar / 4), width, bar
-            ),
-        ),
-        Part("handle_grip", box_between((x_out - bar, -hw, z_lo + ch), (x_out, hw, z_hi - ch))),
-        Part(
-            "handle_corner_bottom",
-            _beam(
-                (xm, 0, z_lo + ch - bar / 4), (x_out - ch - bar / 4, 0, z_lo + bar / 2), width, bar
-            ),
-        ),
-        Part("handle_bottom", box_between((x_in, -hw, z_lo), (x_out - ch, hw, z_lo + bar))),
-    ]
 
 
 @register("mug", variants=2)
@@ -453,7 +275,7 @@ def mug(size, rng, style, support_heights):
     # the handle starts inside the wall at its height so the two overlap, never gap
     r_at = rb + (1.0 - rb) * 0.5
     x_in = c[0] + (r_at - 0.6 * t / rx) * rx
-    parts += _mug_handle(x_in, sx / 2, z_lo, z_hi, width, bar, rounded=style == 0)
+    parts += box_handle(x_in, sx / 2, z_lo, z_hi, width, bar, rounded=style == 0)
     return parts
 
 
@@ -464,7 +286,7 @@ def plate(size, rng, style, support_heights):
     sx, sy, h = (float(v) for v in size)
     rx, ry, z0 = sx / 2, sy / 2, -h / 2
     c = (0.0, 0.0)
-    sectors = ROUND  # a plate is seen mostly from above: its outline must look round
+    sectors = FINE_SEGMENTS  # a plate is seen mostly from above: its outline must look round
     foot_h = 0.2 * h
     zf = z0 + foot_h
     floor_t = 0.25 * h
@@ -548,7 +370,7 @@ def pot(size, rng, style, support_heights):
         parts.append(
             Part(
                 f"handle_{name}",
-                _slab(
+                _extruded_hull(
                     [
                         (x_in, -span / 2),
                         (x_in, span / 2),
@@ -568,7 +390,7 @@ def pan(size, rng, style, support_heights):
     """A frying pan, hollow, its long handle along the longer horizontal side: toward +x,
     or toward +y in a box deeper than wide (as AI2-THOR stores pans). 0 flared skillet
     with a flat handle, 1 round-sided pan with a round handle."""
-    return _in_long_frame(size, lambda length, w, h, turned: _pan(length, w, h, rng, style))
+    return in_long_frame(size, lambda length, w, h, turned: _pan(length, w, h, rng, style))
 
 
 def _pan(sx, sy, h, rng, style):
@@ -592,7 +414,7 @@ def _pan(sx, sy, h, rng, style):
         parts += [
             Part(
                 "handle_neck",
-                _beam(
+                beam(
                     (x_rim - t, 0, zb - thick / 2),
                     (x_mid, 0, zb + 0.2 * (zt - zb)),
                     0.6 * grip,
@@ -601,7 +423,7 @@ def _pan(sx, sy, h, rng, style):
             ),
             Part(
                 "handle",
-                _beam(
+                beam(
                     (x_mid - thick / 2, 0, zb + 0.2 * (zt - zb)),
                     (sx / 2, 0, zt - thick / 2),
                     grip,
@@ -622,7 +444,7 @@ def _pan(sx, sy, h, rng, style):
         Part(
             "handle", _rod((x_rim + 0.14 * handle_len, 0, zb), (sx / 2 - r, 0, zt - r), r, 1.15 * r)
         ),
-        Part("handle_end", ellipsoid((sx / 2 - r, 0, zt - r), 1.15 * r, 4, THIN)),
+        Part("handle_end", ellipsoid((sx / 2 - r, 0, zt - r), 1.15 * r, 4, ROD_SEGMENTS)),
     ]
     return parts
 
@@ -642,15 +464,16 @@ def kettle(size, rng, style, support_heights):
         zb = z0 + hb
         profile = [(0.9, z0), (1.0, z0 + 0.3 * hb), (0.86, z0 + 0.72 * hb), (0.42, zb)]
         parts = [
-            Part("body", _lathe((0, cy), rx, ry, profile)),
+            Part("body", lathe(profile, rx, ry, center=(0, cy), hull_of_rings=False)),
             Part(
                 "lid_knob",
-                _lathe(
-                    (0, cy),
+                lathe(
+                    [(1.0, zb - 0.01 * h), (1.0, zb + 0.05 * h), (0.6, zb + 0.08 * h)],
                     0.12 * rx,
                     0.12 * ry,
-                    [(1.0, zb - 0.01 * h), (1.0, zb + 0.05 * h), (0.6, zb + 0.08 * h)],
-                    THIN,
+                    ROD_SEGMENTS,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             ),
         ]
@@ -672,13 +495,13 @@ def kettle(size, rng, style, support_heights):
         parts += [
             Part(
                 "handle_post_back",
-                _beam(
+                beam(
                     (0, cy - yb, zb - 0.06 * hb), (0, cy - yt, zt - bar / 2), w, bar, side=(1, 0, 0)
                 ),
             ),
             Part(
                 "handle_post_front",
-                _beam(
+                beam(
                     (0, cy + yb, zb - 0.06 * hb), (0, cy + yt, zt - bar / 2), w, bar, side=(1, 0, 0)
                 ),
             ),
@@ -696,17 +519,25 @@ def kettle(size, rng, style, support_heights):
     zb = zt - 0.04 * h
     top = rng.uniform(0.84, 0.9)
     parts = [
-        Part("base", frustum((0, cy, z0), base_h, (1.02 * rx, 1.02 * ry), (rx, ry), ROUND)),
+        Part("base", frustum((0, cy, z0), base_h, (1.02 * rx, 1.02 * ry), (rx, ry), FINE_SEGMENTS)),
         Part(
-            "body", _lathe((0, cy), rx, ry, [(0.98, z0 + base_h), (1.0, z0 + 0.4 * h), (top, zb)])
+            "body",
+            lathe(
+                [(0.98, z0 + base_h), (1.0, z0 + 0.4 * h), (top, zb)],
+                rx,
+                ry,
+                center=(0, cy),
+                hull_of_rings=False,
+            ),
         ),
         Part(
             "lid",
-            _lathe(
-                (0, cy),
+            lathe(
+                [(1.0, zb - 0.01 * h), (1.0, zb + 0.02 * h), (0.4, zt)],
                 0.8 * top * rx,
                 0.8 * top * ry,
-                [(1.0, zb - 0.01 * h), (1.0, zb + 0.02 * h), (0.4, zt)],
+                center=(0, cy),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -784,9 +615,11 @@ def _neck_and_cap(
     return [
         Part(
             "neck",
-            _disc((0, 0), neck * rx, neck * ry, z_neck, z_cap + 0.01 * (zt - z_neck), ROUND),
+            _disc(
+                (0, 0), neck * rx, neck * ry, z_neck, z_cap + 0.01 * (zt - z_neck), FINE_SEGMENTS
+            ),
         ),
-        Part("cap", _disc((0, 0), cap * rx, cap * ry, z_cap, zt, ROUND)),
+        Part("cap", _disc((0, 0), cap * rx, cap * ry, z_cap, zt, FINE_SEGMENTS)),
     ]
 
 
@@ -801,10 +634,7 @@ def bottle(size, rng, style, support_heights):
     if style == 0:
         z_sh = z0 + rng.uniform(0.55, 0.62) * h
         z_neck = z0 + 0.82 * h
-        body = _lathe(
-            (0, 0),
-            rx,
-            ry,
+        body = lathe(
             [
                 (0.9, z0),
                 (1.0, z0 + 0.03 * h),
@@ -812,13 +642,17 @@ def bottle(size, rng, style, support_heights):
                 (0.75, z_sh + 0.55 * (z_neck - z_sh)),
                 (neck, z_neck),
             ],
+            rx,
+            ry,
+            center=(0, 0),
+            hull_of_rings=False,
         )
         parts = [Part("body", body)]
     else:
         z_sh = z0 + rng.uniform(0.68, 0.72) * h
         z_neck = z0 + 0.8 * h
         outline = _octagon(rx, ry, 0.3)
-        top = _ellipse(0, 0, neck * rx, neck * ry)
+        top = ellipse_arc(0, 0, neck * rx, neck * ry)
         parts = [
             Part("body", prism(outline, z0, z_sh)),
             Part(
@@ -827,7 +661,7 @@ def bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[0.97 * outline, np.full(8, z_sh)],
-                            np.c_[top, np.full(ROUND, z_neck)],
+                            np.c_[top, np.full(FINE_SEGMENTS, z_neck)],
                         ]
                     )
                 ),
@@ -867,17 +701,25 @@ def wine_bottle(size, rng, style, support_heights):
         ]
     z_caps = zt - 0.13 * h
     return [
-        Part("body", _lathe((0, 0), rx, ry, profile)),
+        Part("body", lathe(profile, rx, ry, center=(0, 0), hull_of_rings=False)),
         Part(
             "neck",
-            _lathe(
-                (0, 0), neck * rx, neck * ry, [(1.0, z_neck - 0.01 * h), (0.92, z_caps + 0.01 * h)]
+            lathe(
+                [(1.0, z_neck - 0.01 * h), (0.92, z_caps + 0.01 * h)],
+                neck * rx,
+                neck * ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
             "capsule",
-            _lathe(
-                (0, 0), neck * rx, neck * ry, [(0.98, z_caps), (1.06, zt - 0.025 * h), (1.0, zt)]
+            lathe(
+                [(0.98, z_caps), (1.06, zt - 0.025 * h), (1.0, zt)],
+                neck * rx,
+                neck * ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -898,8 +740,12 @@ def spray_bottle(size, rng, style, support_heights):
         parts = [
             Part(
                 "body",
-                _lathe(
-                    (0, cy), rx, ry, [(0.94, z0), (1.0, z0 + 0.03 * h), (1.0, z_sh), (0.45, z_col)]
+                lathe(
+                    [(0.94, z0), (1.0, z0 + 0.03 * h), (1.0, z_sh), (0.45, z_col)],
+                    rx,
+                    ry,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -913,7 +759,10 @@ def spray_bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[outline, np.full(8, z_sh)],
-                            np.c_[_ellipse(0, cy, 0.45 * rx, 0.45 * ry), np.full(ROUND, z_col)],
+                            np.c_[
+                                ellipse_arc(0, cy, 0.45 * rx, 0.45 * ry),
+                                np.full(FINE_SEGMENTS, z_col),
+                            ],
                         ]
                     )
                 ),
@@ -923,7 +772,8 @@ def spray_bottle(size, rng, style, support_heights):
     z_head = z0 + 0.76 * h
     parts.append(
         Part(
-            "collar", _disc((0, cy), collar_r * rx, collar_r * ry, z_col - 0.01 * h, z_head, ROUND)
+            "collar",
+            _disc((0, cy), collar_r * rx, collar_r * ry, z_col - 0.01 * h, z_head, FINE_SEGMENTS),
         )
     )
     hw = 0.3 * sx
@@ -959,7 +809,7 @@ def spray_bottle(size, rng, style, support_heights):
     parts.append(
         Part(
             "trigger",
-            _beam(
+            beam(
                 (0, y_tr, zt - 0.09 * h),
                 (0, y_tr + 0.06 * sy, zt - 0.24 * h),
                 0.4 * sx,
@@ -987,10 +837,7 @@ def soap_bottle(size, rng, style, support_heights):
         parts = [
             Part(
                 "body",
-                _lathe(
-                    (0, cy),
-                    rx,
-                    ry,
+                lathe(
                     [
                         (0.92, z0),
                         (1.0, z0 + 0.05 * h),
@@ -998,6 +845,10 @@ def soap_bottle(size, rng, style, support_heights):
                         (0.85, z_sh + 0.05 * h),
                         (0.35, z_col),
                     ],
+                    rx,
+                    ry,
+                    center=(0, cy),
+                    hull_of_rings=False,
                 ),
             )
         ]
@@ -1011,7 +862,10 @@ def soap_bottle(size, rng, style, support_heights):
                     np.concatenate(
                         [
                             np.c_[outline, np.full(8, z_sh)],
-                            np.c_[_ellipse(0, cy, 0.35 * rx, 0.35 * ry), np.full(ROUND, z_col)],
+                            np.c_[
+                                ellipse_arc(0, cy, 0.35 * rx, 0.35 * ry),
+                                np.full(FINE_SEGMENTS, z_col),
+                            ],
                         ]
                     )
                 ),
@@ -1027,24 +881,32 @@ def soap_bottle(size, rng, style, support_heights):
                 (0, cy, (z_col + z_col_top) / 2 - 0.005 * h),
                 cr,
                 z_col_top - z_col + 0.01 * h,
-                ROUND,
+                FINE_SEGMENTS,
             ),
         ),
         Part(
             "stem",
             cylinder(
-                (0, cy, (z_col_top + z_head) / 2), 0.35 * cr, z_head - z_col_top + 0.01 * h, THIN
+                (0, cy, (z_col_top + z_head) / 2),
+                0.35 * cr,
+                z_head - z_col_top + 0.01 * h,
+                ROD_SEGMENTS,
             ),
         ),
         Part(
             "pump_head",
-            _lathe(
-                (0, cy), 1.1 * cr, 1.1 * cr, [(1.0, z_head), (1.0, zt - 0.02 * h), (0.7, zt)], ROUND
+            lathe(
+                [(1.0, z_head), (1.0, zt - 0.02 * h), (0.7, zt)],
+                1.1 * cr,
+                1.1 * cr,
+                FINE_SEGMENTS,
+                center=(0, cy),
+                hull_of_rings=False,
             ),
         ),
         Part(
             "nozzle",
-            _beam(
+            beam(
                 (0, cy, zt - 0.035 * h),
                 (0, sy / 2, zt - 0.045 * h),
                 0.6 * cr,
@@ -1065,27 +927,49 @@ def salt_shaker(size, rng, style, support_heights):
     z_cap = z0 + rng.uniform(0.66, 0.72) * h
     if style == 0:
         return [
-            Part("body", _lathe((0, 0), rx, ry, [(0.9, z0), (0.93, z0 + 0.03 * h), (0.93, z_cap)])),
             Part(
-                "cap",
-                _lathe(
-                    (0, 0),
+                "body",
+                lathe(
+                    [(0.9, z0), (0.93, z0 + 0.03 * h), (0.93, z_cap)],
                     rx,
                     ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
+            Part(
+                "cap",
+                lathe(
                     [
                         (1.0, z_cap - 0.02 * h),
                         (1.0, z_cap + 0.12 * h),
                         (0.85, zt - 0.08 * h),
                         (0.5, zt),
                     ],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             ),
         ]
-    hexagon = _ellipse(0, 0, rx, ry, 6, np.pi / 6, 2 * np.pi + np.pi / 6)
+    hexagon = ellipse_arc(0, 0, rx, ry, 6, np.pi / 6, 2 * np.pi + np.pi / 6)
     return [
         Part("body", prism(hexagon, z0, z_cap)),
-        Part("cap", _disc((0, 0), 0.82 * rx, 0.82 * ry, z_cap - 0.02 * h, zt - 0.04 * h, ROUND)),
-        Part("cap_top", _lathe((0, 0), 0.82 * rx, 0.82 * ry, [(1.0, zt - 0.045 * h), (0.85, zt)])),
+        Part(
+            "cap",
+            _disc((0, 0), 0.82 * rx, 0.82 * ry, z_cap - 0.02 * h, zt - 0.04 * h, FINE_SEGMENTS),
+        ),
+        Part(
+            "cap_top",
+            lathe(
+                [(1.0, zt - 0.045 * h), (0.85, zt)],
+                0.82 * rx,
+                0.82 * ry,
+                center=(0, 0),
+                hull_of_rings=False,
+            ),
+        ),
     ]
 
 
@@ -1099,33 +983,50 @@ def pepper_shaker(size, rng, style, support_heights):
         waist = rng.uniform(0.5, 0.58)
         z1, z2, z3 = z0 + 0.1 * h, z0 + 0.45 * h, z0 + 0.76 * h
         return [
-            Part("base", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.82 * rx, 0.82 * ry), ROUND)),
+            Part(
+                "base",
+                frustum((0, 0, z0), z1 - z0, (rx, ry), (0.82 * rx, 0.82 * ry), FINE_SEGMENTS),
+            ),
             Part(
                 "body_lower",
                 frustum(
-                    (0, 0, z1), z2 - z1, (0.82 * rx, 0.82 * ry), (waist * rx, waist * ry), ROUND
+                    (0, 0, z1),
+                    z2 - z1,
+                    (0.82 * rx, 0.82 * ry),
+                    (waist * rx, waist * ry),
+                    FINE_SEGMENTS,
                 ),
             ),
             Part(
                 "body_upper",
                 frustum(
-                    (0, 0, z2), z3 - z2, (waist * rx, waist * ry), (0.85 * rx, 0.85 * ry), ROUND
+                    (0, 0, z2),
+                    z3 - z2,
+                    (waist * rx, waist * ry),
+                    (0.85 * rx, 0.85 * ry),
+                    FINE_SEGMENTS,
                 ),
             ),
             Part(
                 "crown",
-                _lathe((0, 0), rx, ry, [(0.85, z3), (0.75, z0 + 0.86 * h), (0.3, z0 + 0.92 * h)]),
+                lathe(
+                    [(0.85, z3), (0.75, z0 + 0.86 * h), (0.3, z0 + 0.92 * h)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
             ),
-            Part("knob", ellipsoid((0, 0, z0 + 0.95 * h), (0.2 * rx, 0.2 * ry, 0.05 * h), 6, THIN)),
+            Part(
+                "knob",
+                ellipsoid((0, 0, z0 + 0.95 * h), (0.2 * rx, 0.2 * ry, 0.05 * h), 6, ROD_SEGMENTS),
+            ),
         ]
     z_b = z0 + rng.uniform(0.66, 0.7) * h
     return [
         Part(
             "body",
-            _lathe(
-                (0, 0),
-                rx,
-                ry,
+            lathe(
                 [
                     (0.6, z0),
                     (0.9, z0 + 0.12 * h),
@@ -1133,11 +1034,21 @@ def pepper_shaker(size, rng, style, support_heights):
                     (0.88, z0 + 0.56 * h),
                     (0.55, z_b),
                 ],
+                rx,
+                ry,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
             "cap",
-            _lathe((0, 0), rx, ry, [(0.58, z_b - 0.02 * h), (0.58, z_b + 0.08 * h), (0.12, zt)]),
+            lathe(
+                [(0.58, z_b - 0.02 * h), (0.58, z_b + 0.08 * h), (0.12, zt)],
+                rx,
+                ry,
+                center=(0, 0),
+                hull_of_rings=False,
+            ),
         ),
     ]
 
@@ -1154,7 +1065,7 @@ def _taper(
     is a half-disc when ``round_back``."""
     y, z, w, t = back
     if round_back:
-        arc = _ellipse(0, y + w / 2, w / 2, w / 2, 7, np.pi, 2 * np.pi, endpoint=True)
+        arc = ellipse_arc(0, y + w / 2, w / 2, w / 2, 7, np.pi, 2 * np.pi, endpoint=True)
         back_pts = [(x, yy, z) for x, yy in arc] + [(x, yy, z + t) for x, yy in arc]
     else:
         back_pts = [(sx * w / 2, y, zz) for sx in (-1, 1) for zz in (z, z + t)]
@@ -1188,7 +1099,7 @@ def _fork(w, length, t, rng, style):
     parts += [
         Part(
             "head",
-            _slab(
+            _extruded_hull(
                 [(-w / 2, y_tines), (w / 2, y_tines), (neck_w / 2, y_head), (-neck_w / 2, y_head)],
                 z0,
                 z0 + plate_t,
@@ -1227,27 +1138,27 @@ def _knife(w, length, t, rng, style, butter):
     if butter:
         bw = 0.85 * w
         # rounded blunt tip; the edge (-x) is straight, the blade widens a little to the tip
-        tip = _ellipse(0, yt - bw / 2, bw / 2, bw / 2, 8, 0.0, np.pi, endpoint=True)
+        tip = ellipse_arc(0, yt - bw / 2, bw / 2, bw / 2, 8, 0.0, np.pi, endpoint=True)
         blade = [(-bw / 2, yb), (0.3 * bw, yb), *tip.tolist()]
         handle_w = 0.8 * w
         hx = 0.0
     elif style == 0:
         # chef's knife: straight spine at +x, curved edge rising to the tip
-        curve = _ellipse(w / 2, yb + 0.45 * lb, w, 0.55 * lb, 8, np.pi, np.pi / 2, endpoint=True)
+        curve = ellipse_arc(w / 2, yb + 0.45 * lb, w, 0.55 * lb, 8, np.pi, np.pi / 2, endpoint=True)
         blade = [(w / 2, yb), (-w / 2, yb), *curve.tolist()]
         handle_w = 0.42 * w
         hx = w / 2 - handle_w / 2 - 0.1 * w
     else:
         # bread knife: parallel edges and a rounded tip
-        tip = _ellipse(0, yt - w / 2, w / 2, w / 2, 8, 0.0, np.pi, endpoint=True)
+        tip = ellipse_arc(0, yt - w / 2, w / 2, w / 2, 8, 0.0, np.pi, endpoint=True)
         blade = [(-w / 2, yb), (w / 2, yb), *tip.tolist()]
         handle_w = 0.75 * w
         hx = 0.0
-    parts = [Part("blade", _slab(blade, bz0, bz1))]
+    parts = [Part("blade", _extruded_hull(blade, bz0, bz1))]
     ht = t if not butter else max(0.5 * t, 2 * blade_t)
     hz = (-t / 2, -t / 2 + ht) if butter else (-t / 2, t / 2)
     round_end = butter or style == 0
-    outline = _rounded_rect(
+    outline = rounded_outline(
         hx - handle_w / 2,
         hx + handle_w / 2,
         y0,
@@ -1260,7 +1171,9 @@ def _knife(w, length, t, rng, style, butter):
         parts.append(
             Part(
                 "handle_end",
-                _slab(_ellipse(0, y0 + 0.6 * w, w / 2 * 1.0, 0.6 * w, 12), hz[0], hz[1] + 0.3 * ht),
+                _extruded_hull(
+                    ellipse_arc(0, y0 + 0.6 * w, w / 2 * 1.0, 0.6 * w, 12), hz[0], hz[1] + 0.3 * ht
+                ),
             )
         )
     if not butter:
@@ -1300,8 +1213,12 @@ def _spoon(w, length, t, rng, style):
         bowl_len = min(1.15 * w, rng.uniform(0.24, 0.28) * length)
     by = yt - bowl_len / 2
     depth = rng.uniform(0.55, 0.65) * t
-    bowl = _lathe(
-        (0, by), w / 2, bowl_len / 2, [(0.45, z0), (0.8, z0 + 0.45 * depth), (1.0, z0 + depth)]
+    bowl = lathe(
+        [(0.45, z0), (0.8, z0 + 0.45 * depth), (1.0, z0 + depth)],
+        w / 2,
+        bowl_len / 2,
+        center=(0, by),
+        hull_of_rings=False,
     )
     neck_w = 0.18 * w
     y_bowl = by - 0.42 * bowl_len
@@ -1349,7 +1266,7 @@ def _spatula(w, length, t, rng, style):
         parts.append(
             Part(
                 "blade_back",
-                _slab(
+                _extruded_hull(
                     [
                         (-0.85 * w / 2, yb),
                         (0.85 * w / 2, yb),
@@ -1377,11 +1294,11 @@ def _spatula(w, length, t, rng, style):
                 )
             )
     else:
-        outline = _rounded_rect(
+        outline = rounded_outline(
             -w / 2, w / 2, yb + 0.2 * blade_len, yt, (0.25 * w, 0.25 * w, 0.0, 0.0)
         )
         outline = np.vstack([outline, [(-0.3 * w, yb), (0.3 * w, yb)]])
-        parts.append(Part("blade", _slab(outline, z0, z0 + blade_t)))
+        parts.append(Part("blade", _extruded_hull(outline, z0, z0 + blade_t)))
     neck_w = 0.16 * w
     y_neck = yb - 0.12 * length
     handle_t = float(np.clip(0.35 * t, 0.002, 0.012))
@@ -1438,11 +1355,11 @@ def ladle(size, rng, style, support_heights):
     z_end = z0 + (0.45 if style == 0 else 0.3) * h
     parts += [
         Part(
-            "handle", _beam((0, y_rim, zt - bar / 2), (0, y0 + hook, z_end), w, bar, side=(1, 0, 0))
+            "handle", beam((0, y_rim, zt - bar / 2), (0, y0 + hook, z_end), w, bar, side=(1, 0, 0))
         ),
         Part(
             "hook",
-            _beam(
+            beam(
                 (0, y0 + hook + bar / 2, z_end),
                 (0, y0 + bar / 2, z_end - 0.25 * h),
                 w,
@@ -1451,567 +1368,6 @@ def ladle(size, rng, style, support_heights):
             ),
         ),
     ]
-    return parts
-
-
-# -- appliances ---------------------------------------------------------------------------
-@register("microwave", variants=2)
-def microwave(size, rng, style, support_heights):
-    """A microwave oven: body, door with a recessed window on +y and a control panel at
-    -x (the viewer's right). 0 handle bar and a button grid, 1 push-open door with two dials."""
-    sx, sy, h = (float(v) for v in size)
-    z0, zt = -h / 2, h / 2
-    foot_h = float(np.clip(0.03 * h, 0.004, 0.012))
-    d = float(np.clip(0.05 * sy, 0.006, 0.02))
-    yf = sy / 2 - d
-    zb = z0 + foot_h
-    parts = [Part("body", box_between((-sx / 2, -sy / 2, zb), (sx / 2, yf, zt)))]
-    fx, fy = 0.08 * sx, 0.1 * sy
-    for i, (x, y) in enumerate(((-1, -1), (1, -1), (1, 1), (-1, 1))):
-        cx, cy = x * (sx / 2 - fx), y * (sy / 2 - d - fy)
-        parts.append(
-            Part(
-                f"foot_{i}",
-                box_between(
-                    (cx - 0.03 * sx, cy - 0.03 * sy, z0), (cx + 0.03 * sx, cy + 0.03 * sy, zb)
-                ),
-            )
-        )
-    m = 0.03 * min(sx, h)
-    x_split = sx / 2 - rng.uniform(0.24, 0.28) * sx
-    dz0, dz1 = zb + m, zt - m
-    dx0, dx1 = -sx / 2 + m, x_split - m / 2
-    bw = 0.14 * (dz1 - dz0)
-    door_front = yf + 0.55 * d
-    parts += [
-        Part("door_top", box_between((dx0, yf, dz1 - bw), (dx1, door_front, dz1))),
-        Part("door_bottom", box_between((dx0, yf, dz0), (dx1, door_front, dz0 + bw))),
-        Part("door_left", box_between((dx0, yf, dz0 + bw), (dx0 + bw, door_front, dz1 - bw))),
-        Part(
-            "door_right", box_between((dx1 - 1.6 * bw, yf, dz0 + bw), (dx1, door_front, dz1 - bw))
-        ),
-        Part(
-            "window",
-            box_between((dx0 + bw, yf, dz0 + bw), (dx1 - 1.6 * bw, yf + 0.15 * d, dz1 - bw)),
-        ),
-    ]
-    px0, px1 = x_split + m / 2, sx / 2 - m
-    panel_front = yf + 0.45 * d
-    parts.append(Part("panel", box_between((px0, yf, dz0), (px1, panel_front, dz1))))
-    pw = px1 - px0
-    parts.append(
-        Part(
-            "display",
-            box_between(
-                (px0 + 0.12 * pw, yf, dz1 - 0.22 * (dz1 - dz0)),
-                (px1 - 0.12 * pw, yf + 0.7 * d, dz1 - 0.08 * (dz1 - dz0)),
-            ),
-        )
-    )
-    if style == 0:
-        bx, bz = 0.26 * pw, 0.07 * (dz1 - dz0)
-        for r in range(4):
-            for k in range(2):
-                x = px0 + pw * (0.27 + 0.46 * k)
-                z = dz1 - (0.34 + 0.12 * r) * (dz1 - dz0)
-                parts.append(
-                    Part(
-                        f"button_{2 * r + k}",
-                        box_between(
-                            (x - bx / 2, yf, z - bz / 2), (x + bx / 2, yf + 0.75 * d, z + bz / 2)
-                        ),
-                    )
-                )
-        hx = dx1 - 0.9 * bw
-        parts.append(
-            Part(
-                "handle",
-                box_between(
-                    (hx - 0.35 * bw, door_front - 0.001, dz0 + 1.2 * bw),
-                    (hx + 0.35 * bw, sy / 2, dz1 - 1.2 * bw),
-                ),
-            )
-        )
-    else:
-        rd = 0.28 * pw
-        for k, fz in enumerate((0.45, 0.72)):
-            z = dz1 - fz * (dz1 - dz0)
-            parts.append(
-                Part(
-                    f"dial_{k}",
-                    _rod((px0 + pw / 2, yf, z), (px0 + pw / 2, sy / 2, z), rd, 0.9 * rd, ROUND),
-                )
-            )
-        parts.append(
-            Part(
-                "open_button",
-                box_between(
-                    (px0 + 0.25 * pw, yf, dz0 + 0.06 * h),
-                    (px1 - 0.25 * pw, yf + 0.75 * d, dz0 + 0.14 * h),
-                ),
-            )
-        )
-    # built with the panel at +x; mirror so it sits at -x, on the right of a person facing
-    # the door, as on real microwaves
-    return [Part(p.name, p.mesh.scaled((-1.0, 1.0, 1.0))) for p in parts]
-
-
-def _toaster(length, width, h, turned, rng, style):
-    """Toaster along x (slots along x); lever on the +y long side, or on the +x end when
-    ``turned`` (that end becomes the front)."""
-    z0, zt = -h / 2, h / 2
-    lever_d = float(np.clip(0.1 * min(length, width), 0.008, 0.025))
-    x1 = length / 2 - (lever_d if turned else 0.0)
-    y1 = width / 2 - (0.0 if turned else lever_d)
-    x0, y0 = -length / 2, -width / 2
-    slot_depth = rng.uniform(0.16, 0.2) * h
-    zs = zt - slot_depth
-    rc = (0.3 if style == 0 else 0.06) * (y1 - y0)
-    parts = [Part("body", prism(_rounded_rect(x0, x1, y0, y1, rc), z0, zs))]
-    w = y1 - y0
-    slot_w = float(np.clip(0.16 * w, 0.01, 0.045))
-    n_rows = 2
-    rim = (w - n_rows * slot_w) / (n_rows + 1)
-    cap = max(rc, 0.12 * (x1 - x0))
-    xs0, xs1 = x0 + cap, x1 - cap
-    parts += [
-        Part("top_end_0", prism(_rounded_rect(x0, xs0 + 0.001, y0, y1, (0, 0, rc, rc)), zs, zt)),
-        Part("top_end_1", prism(_rounded_rect(xs1 - 0.001, x1, y0, y1, (rc, rc, 0, 0)), zs, zt)),
-    ]
-    for k in range(n_rows + 1):
-        ya = y0 + k * (rim + slot_w)
-        parts.append(Part(f"top_rim_{k}", box_between((xs0, ya, zs), (xs1, ya + rim, zt))))
-    if style == 1:
-        # four-slice: a cross divider splits each slot in two
-        parts.append(Part("top_divider", box_between((-0.6 * rim, y0, zs), (0.6 * rim, y1, zt))))
-    lever_w = float(np.clip(0.12 * (x1 - x0), 0.012, 0.04))
-    lz = z0 + 0.62 * h
-    knob_r = 0.35 * lever_d
-    if turned:
-        parts += [
-            Part(
-                "lever",
-                box_between(
-                    (x1 - 0.001, -lever_w / 2, lz), (length / 2, lever_w / 2, lz + 0.06 * h)
-                ),
-            ),
-            Part(
-                "knob",
-                _rod(
-                    (x1 - 0.001, 0, z0 + 0.3 * h),
-                    (length / 2, 0, z0 + 0.3 * h),
-                    1.6 * knob_r,
-                    1.4 * knob_r,
-                ),
-            ),
-        ]
-    else:
-        xl = x1 - 0.25 * (x1 - x0)
-        parts += [
-            Part(
-                "lever",
-                box_between(
-                    (xl - lever_w / 2, y1 - 0.001, lz), (xl + lever_w / 2, width / 2, lz + 0.06 * h)
-                ),
-            ),
-            Part(
-                "knob",
-                _rod(
-                    (x0 + 0.25 * (x1 - x0), y1 - 0.001, z0 + 0.35 * h),
-                    (x0 + 0.25 * (x1 - x0), width / 2, z0 + 0.35 * h),
-                    1.6 * knob_r,
-                    1.4 * knob_r,
-                ),
-            ),
-        ]
-    return parts
-
-
-@register("toaster", variants=2)
-def toaster(size, rng, style, support_heights):
-    """A toaster with open slots on top running along its longer side, lever facing +y:
-    0 rounded two-slice, 1 boxy four-slice."""
-    return _in_long_frame(
-        size, lambda length, w, h, turned: _toaster(length, w, h, turned, rng, style)
-    )
-
-
-@register("coffee_machine", variants=2)
-def coffee_machine(size, rng, style, support_heights):
-    """A coffee machine facing +y: 0 drip machine (base, back tower, overhanging head,
-    glass carafe), 1 espresso machine (body, group head, portafilter, drip tray, cup)."""
-    sx, sy, h = (float(v) for v in size)
-    z0, zt = -h / 2, h / 2
-    if style == 0:
-        base_h = 0.1 * h
-        tower_d = rng.uniform(0.36, 0.42) * sy
-        head_h = 0.3 * h
-        yt = -sy / 2 + tower_d
-        parts = [
-            Part("base", box_between((-sx / 2, -sy / 2, z0), (sx / 2, sy / 2, z0 + base_h))),
-            Part("tower", box_between((-sx / 2, -sy / 2, z0 + base_h), (sx / 2, yt, zt))),
-            Part(
-                "head",
-                box_between(
-                    (-sx / 2, yt - 0.01 * sy, zt - head_h), (sx / 2, sy / 2 - 0.04 * sy, zt)
-                ),
-            ),
-        ]
-        free = sy / 2 - yt
-        rc = min(0.32 * sx, 0.44 * free)
-        cy = yt + free / 2
-        zc0 = z0 + base_h
-        # the filter basket hangs under the head; the carafe stands below it
-        zf = zt - head_h - 0.12 * h
-        zc1 = zf - 0.015 * h
-        hc = zc1 - zc0
-        parts += [
-            Part(
-                "filter_basket",
-                frustum((0, cy, zf), zt - head_h - zf + 0.001, 0.75 * rc, 1.05 * rc, ROUND),
-            ),
-            Part(
-                "carafe",
-                _lathe(
-                    (0, cy),
-                    rc,
-                    rc,
-                    [
-                        (0.92, zc0),
-                        (1.0, zc0 + 0.12 * hc),
-                        (0.96, zc0 + 0.4 * hc),
-                        (0.78, zc0 + 0.72 * hc),
-                        (0.5, zc1),
-                    ],
-                ),
-            ),
-        ]
-        parts += _mug_handle(
-            0.85 * rc,
-            1.4 * rc,
-            zc0 + 0.2 * hc,
-            zc0 + 0.8 * hc,
-            0.12 * rc,
-            0.1 * rc,
-            rounded=False,
-            y=cy,
-            prefix="carafe_handle",
-        )
-        parts += [
-            Part(
-                "switch",
-                box_between(
-                    (0.25 * sx, sy / 2 - 0.001, z0 + 0.2 * base_h),
-                    (0.4 * sx, sy / 2 + 0.005 * sy, z0 + 0.8 * base_h),
-                ),
-            ),
-        ]
-        return parts
-    body_d = rng.uniform(0.55, 0.62) * sy
-    yb = -sy / 2 + body_d
-    over_d = 0.17 * sy
-    over_h = 0.28 * h
-    tray_h = 0.08 * h
-    parts = [
-        Part("body", box_between((-sx / 2, -sy / 2, z0), (sx / 2, yb, zt))),
-        Part(
-            "head", box_between((-sx / 2, yb - 0.01 * sy, zt - over_h), (sx / 2, yb + over_d, zt))
-        ),
-        Part(
-            "drip_tray",
-            box_between(
-                (-0.42 * sx, yb - 0.01 * sy, z0), (0.42 * sx, sy / 2 - 0.03 * sy, z0 + tray_h)
-            ),
-        ),
-    ]
-    gy = yb + 0.55 * over_d
-    gr = min(0.12 * sx, 0.4 * over_d)
-    zg = zt - over_h
-    pf_z = zg - 0.07 * h
-    parts += [
-        Part("group_head", cylinder((0, gy, zg - 0.03 * h + 0.001), gr, 0.06 * h, ROUND)),
-        Part("portafilter", cylinder((0, gy, pf_z), 1.05 * gr, 0.05 * h, ROUND)),
-        Part(
-            "portafilter_handle",
-            _beam(
-                (0, gy + 0.8 * gr, pf_z),
-                (0, sy / 2, pf_z - 0.04 * h),
-                0.35 * gr,
-                0.04 * h,
-                side=(1, 0, 0),
-            ),
-        ),
-        Part(
-            "cup",
-            _lathe(
-                (0, gy), 0.7 * gr, 0.7 * gr, [(0.7, z0 + tray_h), (1.0, z0 + tray_h + 0.14 * h)]
-            ),
-        ),
-        Part(
-            "steam_wand",
-            _rod(
-                (0.36 * sx, yb + 0.4 * over_d, zg),
-                (0.36 * sx, yb + 0.8 * over_d, z0 + tray_h + 0.12 * h),
-                0.012 * sx,
-            ),
-        ),
-        Part(
-            "gauge",
-            _rod(
-                (-0.28 * sx, yb + over_d - 0.001, zt - 0.45 * over_h),
-                (-0.28 * sx, yb + over_d + 0.01 * sy, zt - 0.45 * over_h),
-                0.08 * sx,
-                0.08 * sx,
-                ROUND,
-            ),
-        ),
-    ]
-    return parts
-
-
-# -- food ---------------------------------------------------------------------------------
-@register("apple", variants=2)
-def apple(size, rng, style, support_heights):
-    """An apple with a stem: 0 round, 1 taller with a tapered bottom and a leaf."""
-    sx, sy, h = (float(v) for v in size)
-    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
-    zb = z0 + 0.9 * h
-    # (fraction of body height, fraction of radius): a round body, narrower at the base,
-    # with a flat crown where the stem sits (the dimple cannot be convex)
-    if style == 0:
-        t = [0.0, 0.05, 0.15, 0.3, 0.5, 0.65, 0.8, 0.9, 0.97, 1.0]
-        r = [0.3, 0.55, 0.78, 0.93, 1.0, 0.98, 0.86, 0.65, 0.42, 0.3]
-    else:
-        t = [0.0, 0.06, 0.2, 0.4, 0.62, 0.78, 0.9, 0.97, 1.0]
-        r = [0.28, 0.5, 0.75, 0.92, 1.0, 0.94, 0.75, 0.5, 0.32]
-    profile = np.c_[r, z0 + np.asarray(t) * (zb - z0)]
-    stem_r = float(np.clip(0.05 * min(rx, ry), 0.0015, 0.006))
-    lean = rng.uniform(0.03, 0.08) * rx
-    parts = [
-        Part("body", _lathe((0, 0), rx, ry, profile)),
-        Part("stem", _rod((0, 0, zb - 0.04 * h), (lean, 0, zt), stem_r, 0.8 * stem_r, 6)),
-    ]
-    if style == 1:
-        leaf = ellipsoid((0, 0, 0), (0.3 * rx, 0.12 * ry, 0.015 * h), 4, 8)
-        parts.append(Part("leaf", leaf.transformed(_rot_y(-0.35), (-0.3 * rx, 0, zb + 0.02 * h))))
-    return parts
-
-
-@register("tomato", variants=2)
-def tomato(size, rng, style, support_heights):
-    """A tomato with a green calyx and stem: 0 smooth, 1 ribbed (lobed) beefsteak."""
-    sx, sy, h = (float(v) for v in size)
-    rx, ry, z0, zt = sx / 2, sy / 2, -h / 2, h / 2
-    zb = z0 + 0.9 * h
-    if style == 0:
-        parts = [
-            Part(
-                "body",
-                _lathe(
-                    (0, 0),
-                    rx,
-                    ry,
-                    [
-                        (0.45, z0),
-                        (0.82, z0 + 0.12 * h),
-                        (1.0, z0 + 0.45 * h),
-                        (0.88, z0 + 0.75 * h),
-                        (0.45, zb),
-                    ],
-                ),
-            )
-        ]
-    else:
-        parts = [
-            Part(
-                "core",
-                _lathe(
-                    (0, 0),
-                    0.8 * rx,
-                    0.8 * ry,
-                    [(0.5, z0 + 0.03 * h), (1.0, z0 + 0.45 * h), (0.5, zb)],
-                ),
-            )
-        ]
-        n = 6
-        off = rng.uniform(0, np.pi / n)
-        for i in range(n):
-            a = off + 2 * np.pi * i / n
-            c = (0.32 * rx * np.cos(a), 0.32 * ry * np.sin(a), z0 + 0.46 * h)
-            parts.append(Part(f"lobe_{i}", ellipsoid(c, (0.68 * rx, 0.68 * ry, 0.44 * h), 6, 10)))
-    # calyx: thin sepals radiating from the top, drooping a little
-    n_sep = 5
-    w = 0.12 * min(rx, ry)
-    th = 0.02 * h
-    for i in range(n_sep):
-        a = 2 * np.pi * i / n_sep + 0.3
-        # the ribbed lobes reach the crown, so there the sepals lie flatter
-        tip = (0.42 * rx * np.cos(a), 0.42 * ry * np.sin(a), zb - (0.06 if style == 0 else 0.0) * h)
-        parts.append(
-            Part(
-                f"sepal_{i}",
-                _beam((0, 0, zb + 0.01 * h), tip, w, th, side=(-np.sin(a), np.cos(a), 0)),
-            )
-        )
-    parts.append(
-        Part(
-            "stem",
-            _rod((0, 0, zb - 0.02 * h), (0, 0, zt), 0.05 * min(rx, ry), 0.04 * min(rx, ry), 6),
-        )
-    )
-    return parts
-
-
-def _lumpy(
-    center: Sequence[float],
-    radii: Sequence[float],
-    rng: np.random.Generator,
-    jitter: float,
-    n: int = 48,
-) -> Mesh:
-    """Convex hull of n points on an ellipsoid (3,) radii, each radius jittered by a
-    relative ``jitter`` (a potato's irregular outline)."""
-    k = np.arange(n) + 0.5
-    phi = np.arccos(1 - 2 * k / n)
-    theta = np.pi * (1 + 5**0.5) * k
-    dirs = np.stack([np.cos(theta) * np.sin(phi), np.sin(theta) * np.sin(phi), np.cos(phi)], 1)
-    scale = 1 + jitter * rng.standard_normal(n)
-    return hull(np.asarray(center) + dirs * np.clip(scale, 0.7, 1.3)[:, None] * radii)
-
-
-@register("potato", variants=2)
-def potato(size, rng, style, support_heights):
-    """A potato: 0 one lumpy oval, 1 two fused lumps along its long axis."""
-    sx, sy, h = (float(v) for v in size)
-    rx, ry, rz = sx / 2, sy / 2, h / 2
-    if style == 0:
-        return [Part("body", _lumpy((0, 0, 0), (rx, ry, rz), rng, 0.06))]
-    along_y = sy >= sx
-    axis = np.array([0.0, 1.0, 0.0]) if along_y else np.array([1.0, 0.0, 0.0])
-    long_r = ry if along_y else rx
-    r_a = np.array([rx, ry, rz]) * np.where(axis > 0, 0.62, 1.0)
-    r_b = np.array([rx, ry, rz]) * np.where(axis > 0, 0.5, 0.85)
-    return [
-        Part("lump_0", _lumpy(-axis * (long_r - r_a @ axis), r_a, rng, 0.05)),
-        Part("lump_1", _lumpy(axis * (long_r - r_b @ axis), r_b, rng, 0.05)),
-    ]
-
-
-@register("egg", variants=2)
-def egg(size, rng, style, support_heights):
-    """An egg standing on its broad end: 0 pointed (hen's egg), 1 rounder."""
-    sx, sy, h = (float(v) for v in size)
-    rx, ry, z0 = sx / 2, sy / 2, -h / 2
-    k = rng.uniform(0.14, 0.2) if style == 0 else rng.uniform(0.02, 0.05)
-    u = np.cos(np.linspace(np.pi, 0.0, 11))  # denser rings near the ends
-    r = np.sqrt(np.clip(1 - u**2, 0, None)) * (1 - k * u)
-    r /= r.max()
-    r[0] = r[-1] = 0.0
-    return [Part("shell", _lathe((0, 0), rx, ry, np.c_[r, z0 + (u + 1) / 2 * h]))]
-
-
-@register("lettuce", variants=2)
-def lettuce(size, rng, style, support_heights):
-    """A lettuce: 0 round head with leaves wrapped around a core, 1 romaine head lying on
-    its side, leaves fanning out from the stalk along the longer horizontal axis."""
-    sx, sy, h = (float(v) for v in size)
-    if style == 0:
-        rx, ry, rz = sx / 2, sy / 2, h / 2
-        parts = [Part("core", ellipsoid((0, 0, 0.02 * rz), (0.8 * rx, 0.8 * ry, 0.92 * rz), 6, 12))]
-        n = 7
-        off = rng.uniform(0, 2 * np.pi)
-        for i in range(n):
-            a = off + 2 * np.pi * i / n
-            # an outer leaf stands tangentially against the core, its top leaning in
-            # slightly so the head reads as wrapped, not open
-            leaf = ellipsoid((0, 0, 0), (0.14, 0.6, 0.72), 6, 10)
-            leaf = leaf.transformed(
-                _rot_z(a) @ _rot_y(-rng.uniform(0.1, 0.2)),
-                (0.68 * np.cos(a), 0.68 * np.sin(a), -0.2),
-            )
-            parts.append(Part(f"leaf_{i}", leaf.scaled((rx, ry, rz))))
-        for i in range(3):
-            a = off + 2 * np.pi * i / 3 + 0.5
-            # crinkled top: loose leaves folded over the crown
-            leaf = ellipsoid((0, 0, 0), (0.5, 0.3, 0.12), 4, 10)
-            leaf = leaf.transformed(
-                _rot_z(a) @ _rot_y(0.35), (0.3 * np.cos(a), 0.3 * np.sin(a), 0.75)
-            )
-            parts.append(Part(f"top_leaf_{i}", leaf.scaled((rx, ry, rz))))
-        return parts
-
-    def build(length, w, hh, turned):
-        hl, hw, hz = length / 2, w / 2, hh / 2
-        out = [
-            Part(
-                "stalk",
-                _rod((-hl, 0, -0.2 * hz), (-0.4 * hl, 0, -0.1 * hz), 0.35 * hw, 0.6 * hw, 10),
-            )
-        ]
-        spec = [
-            (0.1, 0.0, 0.0, 0.0),
-            (0.15, 0.35, 0.1, 0.18),
-            (0.15, -0.35, 0.1, -0.18),
-            (0.2, 0.2, 0.45, 0.08),
-            (0.2, -0.2, 0.45, -0.08),
-        ]
-        for i, (cx, cy, cz, yaw) in enumerate(spec):
-            leaf = ellipsoid((0, 0, 0), (0.75 * hl, 0.55 * hw, 0.55 * hz), 6, 12)
-            leaf = leaf.transformed(
-                _rot_z(yaw + rng.uniform(-0.04, 0.04)), (cx * hl, cy * hw, (cz - 0.35) * hz)
-            )
-            out.append(Part(f"leaf_{i}", leaf))
-        return out
-
-    return _in_long_frame(size, build)
-
-
-@register("bread", variants=2)
-def bread(size, rng, style, support_heights):
-    """A loaf of bread: 0 tin loaf (box base, domed top), 1 oval baton with score marks."""
-    sx, sy, h = (float(v) for v in size)
-    z0, zt = -h / 2, h / 2
-    if style == 0:
-
-        def build(length, w, hh, turned):
-            hz0 = -hh / 2
-            zs = hz0 + rng.uniform(0.5, 0.58) * hh
-            base = box_between((-0.48 * length, -0.46 * w, hz0), (0.48 * length, 0.46 * w, zs))
-            arc = _ellipse(0, zs, 0.5 * w, hh / 2 - zs, 9, 0.0, np.pi, endpoint=True)
-            dome = prism(arc, -length / 2, length / 2)
-            # prism extrudes along z: turn its axis onto x, its outline's (x, y) onto (y, z)
-            dome = dome.transformed(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]))
-            return [Part("base", base), Part("top", dome)]
-
-        return _in_long_frame(size, build)
-    rx, ry = sx / 2, sy / 2
-    parts = [
-        Part(
-            "loaf",
-            _lathe(
-                (0, 0),
-                rx,
-                ry,
-                [
-                    (0.84, z0),
-                    (0.97, z0 + 0.16 * h),
-                    (1.0, z0 + 0.3 * h),
-                    (0.88, z0 + 0.66 * h),
-                    (0.55, z0 + 0.9 * h),
-                    (0.18, zt),
-                ],
-            ),
-        )
-    ]
-    long_x = sx >= sy
-    lmax = max(rx, ry)
-    for i, f in enumerate((-0.4, 0.0, 0.4)):
-        slash = ellipsoid((0, 0, 0), (0.2 * lmax, 0.04 * lmax, 0.03 * h), 4, 8)
-        rot = _rot_z(0.9 if long_x else 0.9 + np.pi / 2)
-        c = (f * rx, 0.0, 0.0) if long_x else (0.0, f * ry, 0.0)
-        r_frac = np.hypot(c[0] / rx, c[1] / ry)
-        z = z0 + h * (0.9 if r_frac < 0.2 else 0.8)
-        parts.append(Part(f"score_{i}", slash.transformed(rot, (c[0], c[1], z))))
     return parts
 
 
@@ -2054,7 +1410,7 @@ def aluminum_foil(size, rng, style, support_heights):
             parts.append(
                 Part(
                     "lid",
-                    _beam(
+                    beam(
                         (0.0, y0 + tw / 2, zc),
                         (0.0, tip[1], tip[2] - tw / 2),
                         length,
@@ -2071,7 +1427,7 @@ def aluminum_foil(size, rng, style, support_heights):
             Part("lid_flap", box_between((x0, y1 - tw, zt - lip), (x1, y1, zt))),
             Part(
                 "foil_sheet",
-                _beam(
+                beam(
                     (0.0, y1 - 0.5 * tw, zt - lip),
                     (0.0, y1, z0 + 0.12 * h),
                     0.9 * length,
@@ -2081,7 +1437,7 @@ def aluminum_foil(size, rng, style, support_heights):
             ),
         ]
 
-    return _in_long_frame(size, build)
+    return in_long_frame(size, build)
 
 
 @register("dish_sponge", variants=2)
@@ -2094,8 +1450,8 @@ def dish_sponge(size, rng, style, support_heights):
     r = 0.12 * min(sx, sy)
     if style == 0:
         return [
-            Part("sponge", prism(_rounded_rect(-sx / 2, sx / 2, -sy / 2, sy / 2, r), z0, zs)),
-            Part("scourer", prism(_rounded_rect(-sx / 2, sx / 2, -sy / 2, sy / 2, r), zs, zt)),
+            Part("sponge", prism(rounded_outline(-sx / 2, sx / 2, -sy / 2, sy / 2, r), z0, zs)),
+            Part("scourer", prism(rounded_outline(-sx / 2, sx / 2, -sy / 2, sy / 2, r), zs, zt)),
         ]
     along_y = sy >= sx
     lx, ly = (sx / 2, sy / 2) if along_y else (sy / 2, sx / 2)  # across, along
@@ -2107,11 +1463,11 @@ def dish_sponge(size, rng, style, support_heights):
     }
     parts = []
     for name, (a0, a1, b0, b1, rad) in pieces.items():
-        outline = _rounded_rect(b0, b1, a0, a1, rad)[:, ::-1]  # along y: swap to (x, y)
+        outline = rounded_outline(b0, b1, a0, a1, rad)[:, ::-1]  # along y: swap to (x, y)
         if not along_y:
             outline = outline[:, ::-1]
         parts.append(Part(name, prism(outline, z0, zs)))
-    scour = _rounded_rect(-0.78 * lx, 0.78 * lx, -ly, ly, 0.5 * r)
+    scour = rounded_outline(-0.78 * lx, 0.78 * lx, -ly, ly, 0.5 * r)
     parts.append(Part("scourer", prism(scour if along_y else scour[:, ::-1], zs, zt)))
     return parts
 
@@ -2126,7 +1482,7 @@ def soap_bar(size, rng, style, support_heights):
         levels = [(0.9, z0), (1.0, z0 + 0.35 * h), (0.96, zt - 0.2 * h), (0.8, zt)]
         pts = [
             np.c_[
-                _rounded_rect(-s * sx / 2, s * sx / 2, -s * sy / 2, s * sy / 2, s * r, 3),
+                rounded_outline(-s * sx / 2, s * sx / 2, -s * sy / 2, s * sy / 2, s * r, 3),
                 np.full(16, z),
             ]
             for s, z in levels
@@ -2135,11 +1491,12 @@ def soap_bar(size, rng, style, support_heights):
     return [
         Part(
             "bar",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(0.82, z0), (1.0, z0 + 0.3 * h), (0.9, z0 + 0.75 * h), (0.55, zt)],
                 sx / 2,
                 sy / 2,
-                [(0.82, z0), (1.0, z0 + 0.3 * h), (0.9, z0 + 0.75 * h), (0.55, zt)],
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         )
     ]
@@ -2176,20 +1533,41 @@ def scrub_brush(size, rng, style, support_heights):
             zh = z0 + rng.uniform(0.34, 0.4) * h
             return [
                 Part(
-                    "holder", _lathe((0, 0), rx, ry, [(0.85, z0), (1.0, z0 + 0.08 * h), (0.92, zh)])
+                    "holder",
+                    lathe(
+                        [(0.85, z0), (1.0, z0 + 0.08 * h), (0.92, zh)],
+                        rx,
+                        ry,
+                        center=(0, 0),
+                        hull_of_rings=False,
+                    ),
                 ),
                 Part(
                     "holder_rim",
-                    _disc((0, 0), 0.75 * rx, 0.75 * ry, zh - 0.01 * h, zh + 0.015 * h, ROUND),
+                    _disc(
+                        (0, 0), 0.75 * rx, 0.75 * ry, zh - 0.01 * h, zh + 0.015 * h, FINE_SEGMENTS
+                    ),
                 ),
                 Part("handle", _rod((0, 0, zh), (0, 0, zt - 0.06 * h), hr, 0.9 * hr)),
-                Part("knob", ellipsoid((0, 0, zt - 0.06 * h), (2 * hr, 2 * hr, 0.06 * h), 6, THIN)),
+                Part(
+                    "knob",
+                    ellipsoid((0, 0, zt - 0.06 * h), (2 * hr, 2 * hr, 0.06 * h), 6, ROD_SEGMENTS),
+                ),
             ]
         base_h = 0.04 * h
         zb = z0 + base_h
         head_h = 0.2 * h
         return [
-            Part("stand", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.01 * h), (0.9, zb)])),
+            Part(
+                "stand",
+                lathe(
+                    [(1.0, z0), (1.0, zb - 0.01 * h), (0.9, zb)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
             Part(
                 "head",
                 ellipsoid((0, 0, zb + head_h / 2), (0.62 * rx, 0.62 * ry, head_h / 2), 6, 12),
@@ -2199,7 +1577,10 @@ def scrub_brush(size, rng, style, support_heights):
                 _rod((0, 0, zb + 0.8 * head_h), (0, 0, zb + head_h + 0.06 * h), 1.6 * hr, 1.2 * hr),
             ),
             Part("handle", _rod((0, 0, zb + head_h), (0, 0, zt - 0.03 * h), hr, 0.9 * hr)),
-            Part("knob", ellipsoid((0, 0, zt - 0.03 * h), (1.6 * hr, 1.6 * hr, 0.03 * h), 4, THIN)),
+            Part(
+                "knob",
+                ellipsoid((0, 0, zt - 0.03 * h), (1.6 * hr, 1.6 * hr, 0.03 * h), 4, ROD_SEGMENTS),
+            ),
         ]
     bristle_h = 0.3 * h
     zb = z0 + bristle_h
@@ -2207,7 +1588,8 @@ def scrub_brush(size, rng, style, support_heights):
     if style == 0:
         parts = [
             Part(
-                "block", prism(_rounded_rect(-rx, rx, -ry, ry, 0.3 * min(rx, ry)), zb, zb + block_h)
+                "block",
+                prism(rounded_outline(-rx, rx, -ry, ry, 0.3 * min(rx, ry)), zb, zb + block_h),
             )
         ]
         parts += _bristles(
@@ -2224,11 +1606,12 @@ def scrub_brush(size, rng, style, support_heights):
         parts.append(
             Part(
                 "knob",
-                _lathe(
-                    (0, 0),
-                    kr,
-                    kr,
+                lathe(
                     [(0.6, zb + block_h - 0.01 * h), (1.0, zt - 0.15 * h), (0.7, zt)],
+                    kr,
+                    kr,
+                    center=(0, 0),
+                    hull_of_rings=False,
                 ),
             )
         )
@@ -2267,7 +1650,9 @@ def plunger(size, rng, style, support_heights):
         parts.append(
             Part(
                 "flange",
-                frustum((0, 0, z0), flange, (0.5 * rx, 0.5 * ry), (0.62 * rx, 0.62 * ry), ROUND),
+                frustum(
+                    (0, 0, z0), flange, (0.5 * rx, 0.5 * ry), (0.62 * rx, 0.62 * ry), FINE_SEGMENTS
+                ),
             )
         )
         zc = z0 + 0.8 * flange
@@ -2275,22 +1660,24 @@ def plunger(size, rng, style, support_heights):
     parts += [
         Part(
             "cup",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(1.0, zc), (0.96, zc + 0.3 * hc), (0.78, zc + 0.7 * hc), (0.3, zc + hc)],
                 rx,
                 ry,
-                [(1.0, zc), (0.96, zc + 0.3 * hc), (0.78, zc + 0.7 * hc), (0.3, zc + hc)],
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part("handle", _rod((0, 0, zc + 0.9 * hc), (0, 0, zt - 0.03 * h), hr, hr)),
         Part(
             "handle_end",
-            _lathe(
-                (0, 0),
-                1.25 * hr,
-                1.25 * hr,
+            lathe(
                 [(1.0, zt - 0.04 * h), (1.0, zt - 0.01 * h), (0.6, zt)],
-                THIN,
+                1.25 * hr,
+                1.25 * hr,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
@@ -2306,29 +1693,43 @@ def candle(size, rng, style, support_heights):
         zb = zt - rng.uniform(0.06, 0.1) * h
         wr = float(np.clip(0.05 * min(rx, ry), 0.0008, 0.003))
         return [
-            Part("body", _lathe((0, 0), rx, ry, [(1.0, z0), (1.0, zb - 0.02 * h), (0.9, zb)])),
+            Part(
+                "body",
+                lathe(
+                    [(1.0, z0), (1.0, zb - 0.02 * h), (0.9, zb)],
+                    rx,
+                    ry,
+                    center=(0, 0),
+                    hull_of_rings=False,
+                ),
+            ),
             Part("wick", _rod((0, 0, zb - 0.005 * h), (0.02 * rx, 0, zt), wr, 0.8 * wr, 6)),
         ]
     z1, z2, z3 = z0 + 0.04 * h, z0 + 0.2 * h, z0 + 0.26 * h
     cr = 0.24
     zc = zt - rng.uniform(0.13, 0.16) * h
     return [
-        Part("dish", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.9 * rx, 0.9 * ry), ROUND)),
+        Part("dish", frustum((0, 0, z0), z1 - z0, (rx, ry), (0.9 * rx, 0.9 * ry), FINE_SEGMENTS)),
         Part("stem", _rod((0, 0, z1 - 0.001), (0, 0, z2), 0.12 * min(rx, ry), 0.1 * min(rx, ry))),
         Part(
             "socket",
             frustum(
-                (0, 0, z2 - 0.001), z3 - z2, (0.2 * rx, 0.2 * ry), (0.34 * rx, 0.34 * ry), ROUND
+                (0, 0, z2 - 0.001),
+                z3 - z2,
+                (0.2 * rx, 0.2 * ry),
+                (0.34 * rx, 0.34 * ry),
+                FINE_SEGMENTS,
             ),
         ),
         Part(
             "taper",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(1.0, z3 - 0.01 * h), (0.85, zc - 0.02 * h), (0.5, zc)],
                 cr * rx,
                 cr * ry,
-                [(1.0, z3 - 0.01 * h), (0.85, zc - 0.02 * h), (0.5, zc)],
-                THIN,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
         Part(
@@ -2343,12 +1744,13 @@ def candle(size, rng, style, support_heights):
         ),
         Part(
             "flame",
-            _lathe(
-                (0, 0),
+            lathe(
+                [(0.0, zc + 0.02 * h), (0.8, zc + 0.05 * h), (1.0, zc + 0.07 * h), (0.0, zt)],
                 0.14 * rx,
                 0.14 * ry,
-                [(0.0, zc + 0.02 * h), (0.8, zc + 0.05 * h), (1.0, zc + 0.07 * h), (0.0, zt)],
-                THIN,
+                ROD_SEGMENTS,
+                center=(0, 0),
+                hull_of_rings=False,
             ),
         ),
     ]
