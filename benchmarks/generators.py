@@ -41,7 +41,7 @@ def main() -> None:
     args = parser.parse_args()
     sys.path.insert(0, str(ROOT / "src"))
     from pair2scene.assets.registry import generate, generators
-    from pair2scene.render import typical_size
+    from pair2scene.assets.typical_sizes import typical_size
 
     rows = []
     for cat, gen in sorted(generators().items(), key=lambda kv: (kv[1].fn.__module__, kv[0])):
