@@ -20,6 +20,7 @@ scene draw different numbers.
 
 from __future__ import annotations
 
+from abc import abstractmethod
 from pathlib import Path
 
 import numpy as np
@@ -54,10 +55,11 @@ class _Sampler(PlacementModel):
         """:meth:`sample`'s candidates (of the query's size); None: no region mass."""
         return self.sample(query, n, temperature, generator), None
 
+    @abstractmethod
     def sample(
         self, query: PlacementQuery, n: int, temperature: float, generator: torch.Generator | None
     ) -> np.ndarray:
-        raise NotImplementedError
+        """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query."""
 
 
 class GaussianPlacement(_Sampler):
