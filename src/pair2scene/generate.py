@@ -331,8 +331,6 @@ def settle_scene(
     resting pose; one that moves more than 5 cm or tips over is dropped with its
     dependents. ``fixed`` objects (kept by the user) are never dropped and keep their
     pose. Returns the settled scene and what the settle did."""
-    from dataclasses import replace
-
     from pair2scene.curation.physics import PhysicsConfig, validate_physics
 
     outcome = validate_physics(scene, config=PhysicsConfig(fit_heights=False), assets=assets)
