@@ -1,11 +1,26 @@
-"""Shared by the benchmark scripts: the machine line and one section of docs/benchmarks.md."""
+"""Shared by the benchmark scripts: the machine line, one section of docs/benchmarks.md and
+the median timer."""
 
 from __future__ import annotations
 
 import os
 import platform
 import re
+import statistics
+import time
+from collections.abc import Callable
 from pathlib import Path
+
+
+def median_seconds(fn: Callable[[], object], runs: int) -> float:
+    """Median wall time of ``runs`` calls of ``fn`` after one warm-up call."""
+    fn()
+    times = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
 
 
 def replace_section(doc: Path, heading: str, text: str) -> None:

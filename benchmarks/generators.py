@@ -15,22 +15,12 @@ from __future__ import annotations
 import argparse
 import statistics
 import sys
-import time
 from functools import partial
 from pathlib import Path
 
+from _docs import median_seconds
+
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def time_ms(fn, runs: int) -> float:
-    """Median wall time (ms) of ``runs`` calls of ``fn`` after one warm-up call."""
-    fn()
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
 
 
 def main() -> None:
@@ -50,7 +40,7 @@ def main() -> None:
             continue
         size = typical_size(cat).size
         per_style = [
-            [time_ms(partial(generate, cat, size, rng=seed, style=style), args.runs)
+            [1e3 * median_seconds(partial(generate, cat, size, rng=seed, style=style), args.runs)
              for seed in range(args.seeds)]
             for style in range(gen.variants)
         ]  # fmt: skip
