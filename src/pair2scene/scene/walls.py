@@ -1,0 +1,197 @@
+"""A room's walls as anchors: segments of the floor polygon, their frames, and which wall
+an object stands against.
+
+Every edge of the floor polygon (counter-clockwise, so the room lies to each edge's left)
+is a :class:`Wall`: its end points, its length, the unit vector along it and its inward
+normal. L-shaped and other non-convex rooms need nothing special: each edge is a wall, and
+the inward normal of a counter-clockwise polygon's edge is the edge's direction turned a
+quarter to the left.
+
+A wall's *frame* (:meth:`Wall.frame`) is the box a tuple anchored to it is predicted in:
+x along the wall, y its inward normal, z up; centred on the wall's midpoint at floor level
++ half the room's height, :data:`WALL_FRAME_DEPTH_M` deep each side of the wall, so a
+canonical y of 1 is a metre into the room and the floor is canonical z = -1, as in the
+room's own frame.
+
+:func:`wall_contact` decides whether an object stands against a wall, the way the figures
+of issue 18 count it: one of its vertical faces (its back, by preference) lies within
+``max_gap`` of the wall, parallel to it within ``max_angle`` degrees, with the face's
+extent overlapping the wall segment by at least half of the face.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pair2scene.scene.geometry import OrientedBox
+
+WALL_FRAME_DEPTH_M = 1.0
+"""Half-depth of a wall's frame box: canonical y is metres from the wall."""
+AGAINST_GAP_M = 0.15
+"""A face this close to a wall (or closer) stands against it."""
+AGAINST_ANGLE_DEG = 15.0
+"""... when parallel to it within this many degrees."""
+MIN_OVERLAP = 0.5
+"""... and when at least this share of the face's width lies along the segment."""
+FACES = ("back", "left", "right", "front")
+"""An object's vertical faces by their outward normal in its local frame: back -y,
+left -x, right +x, front +y. ``back`` against a wall means facing into the room."""
+_FACE_NORMALS = {
+    "back": np.array([0.0, -1.0]),
+    "left": np.array([-1.0, 0.0]),
+    "right": np.array([1.0, 0.0]),
+    "front": np.array([0.0, 1.0]),
+}
+
+
+@dataclass(frozen=True)
+class Wall:
+    """One straight wall of a room, as seen from above."""
+
+    index: int
+    """Its edge's index in the floor polygon (edge i runs from vertex i to i + 1)."""
+    p0: np.ndarray
+    p1: np.ndarray
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.p1 - self.p0))
+
+    @property
+    def direction(self) -> np.ndarray:
+        """Unit vector from p0 to p1."""
+        d = self.p1 - self.p0
+        return d / max(float(np.linalg.norm(d)), 1e-12)
+
+    @property
+    def normal(self) -> np.ndarray:
+        """Unit inward normal (into the room)."""
+        d = self.direction
+        return np.array([-d[1], d[0]])
+
+    @property
+    def midpoint(self) -> np.ndarray:
+        return (self.p0 + self.p1) / 2
+
+    @property
+    def yaw(self) -> float:
+        """Heading of the wall's x axis (its direction)."""
+        d = self.direction
+        return float(np.arctan2(d[1], d[0]))
+
+    def frame(self, height: float) -> OrientedBox:
+        """The wall's frame box (see the module docstring)."""
+        center = [*self.midpoint, height / 2]
+        size = [max(self.length, 1e-3), 2 * WALL_FRAME_DEPTH_M, height]
+        return OrientedBox.from_yaw(center, size, self.yaw)
+
+    def local(self, points: np.ndarray) -> np.ndarray:
+        """World xy (..., 2) -> (along, inward) coordinates: along from the midpoint,
+        inward from the wall's line."""
+        rel = np.asarray(points, float) - self.midpoint
+        return np.stack([rel @ self.direction, rel @ self.normal], axis=-1)
+
+    def to_dict(self) -> dict:
+        return {"index": self.index, "p0": self.p0.tolist(), "p1": self.p1.tolist()}
+
+
+def walls_of(polygon: np.ndarray, min_length: float = 1e-3) -> list[Wall]:
+    """The walls of a floor polygon (N, 2), counter-clockwise (as :class:`Room` keeps it);
+    edges shorter than ``min_length`` (repeated vertices) are left out."""
+    poly = np.asarray(polygon, float)
+    out = []
+    for i in range(len(poly)):
+        p0, p1 = poly[i], poly[(i + 1) % len(poly)]
+        if np.linalg.norm(p1 - p0) >= min_length:
+            out.append(Wall(i, p0.copy(), p1.copy()))
+    return out
+
+
+@dataclass(frozen=True)
+class WallContact:
+    """How an object stands against a wall."""
+
+    wall: int
+    """The wall's index (:attr:`Wall.index`)."""
+    face: str
+    """Which face is against it (:data:`FACES`)."""
+    gap: float
+    """Distance from that face to the wall (m; negative: through it)."""
+    angle: float
+    """Degrees between the face and the wall."""
+    offset: float
+    """Position of the object's centre along the wall, from its midpoint (m)."""
+
+    def to_dict(self) -> dict:
+        return {"wall": self.wall, "face": self.face, "gap": round(self.gap, 4),
+                "angle": round(self.angle, 2), "offset": round(self.offset, 4)}  # fmt: skip
+
+
+def face_contacts(
+    box: OrientedBox,
+    walls: list[Wall],
+    max_gap: float = AGAINST_GAP_M,
+    max_angle: float = AGAINST_ANGLE_DEG,
+    min_overlap: float = MIN_OVERLAP,
+) -> list[WallContact]:
+    """Every (face, wall) pair of ``box`` that stands against each other, closest first."""
+    rot = box.rotation[:2, :2]
+    half = box.half_size
+    center = box.center[:2]
+    out = []
+    for face, local_normal in _FACE_NORMALS.items():
+        n = rot @ local_normal  # outward normal of the face, world xy
+        n_len = float(np.linalg.norm(n))
+        if n_len < 0.5:  # not upright enough to have vertical faces
+            continue
+        n = n / n_len
+        across = 0 if face in ("left", "right") else 1  # local axis the face is normal to
+        along_axis = 1 - across
+        face_center = center + n * half[across]
+        face_dir = rot[:, along_axis] / max(float(np.linalg.norm(rot[:, along_axis])), 1e-12)
+        face_half = half[along_axis]
+        for wall in walls:
+            # the face looks at the wall: its outward normal opposes the inward normal
+            cos = float(-n @ wall.normal)
+            angle = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+            if angle > max_angle:
+                continue
+            along, inward = wall.local(face_center)
+            if inward > max_gap or inward < -max_gap:
+                continue
+            extent = abs(float(face_dir @ wall.direction)) * face_half
+            lo, hi = along - extent, along + extent
+            overlap = min(hi, wall.length / 2) - max(lo, -wall.length / 2)
+            if overlap < min_overlap * max(hi - lo, 1e-6):
+                continue
+            offset = float(wall.local(center)[0])
+            out.append(WallContact(wall.index, face, float(inward), angle, offset))
+    out.sort(key=lambda c: (abs(c.gap), FACES.index(c.face)))
+    return out
+
+
+def wall_contact(
+    box: OrientedBox,
+    walls: list[Wall],
+    max_gap: float = AGAINST_GAP_M,
+    max_angle: float = AGAINST_ANGLE_DEG,
+) -> WallContact | None:
+    """The wall ``box`` stands against, preferring its back (facing into the room), else
+    the closest face; None when no face is against a wall."""
+    contacts = face_contacts(box, walls, max_gap, max_angle)
+    if not contacts:
+        return None
+    backs = [c for c in contacts if c.face == "back"]
+    return backs[0] if backs else contacts[0]
+
+
+def against_wall(
+    box: OrientedBox,
+    walls: list[Wall],
+    max_gap: float = AGAINST_GAP_M,
+    max_angle: float = AGAINST_ANGLE_DEG,
+) -> bool:
+    """Whether ``box``'s back face stands against a wall, facing into the room."""
+    return any(c.face == "back" for c in face_contacts(box, walls, max_gap, max_angle))
