@@ -24,6 +24,7 @@ from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
 from pair2scene.assembly.records import Dropped
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
+from pair2scene.assembly.walls import WallRules
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import HierarchyConfig, load_stats
@@ -159,7 +160,8 @@ class Pair2Scene:
         self.stats = load_stats() if stats is None else stats
         self.rooms = RoomTable.load() if rooms is None else rooms
         self.placer = Placer(model, SizeTable.load() if sizes is None else sizes,
-                             self.config.assembly, sup_dep=self.stats.sup_dep)  # fmt: skip
+                             self.config.assembly, sup_dep=self.stats.sup_dep,
+                             walls=WallRules.from_stats(self.stats))  # fmt: skip
 
     @classmethod
     def from_pretrained(
@@ -288,9 +290,7 @@ def ablation_config(
     return replace(config, assembly=replace(config.assembly, **flags))
 
 
-def config_changes(
-    config: GenerateConfig, base: GenerateConfig | None = None
-) -> dict[str, object]:
+def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -> dict[str, object]:
     """The settings of ``config`` that differ from ``base`` (the defaults), by dotted path
     (``{"assembly.max_load": 0.5}``): what summary.json records of them, so a resumed run
     is the same request."""
@@ -348,9 +348,7 @@ def settle_scene(
         objects.append(o)
     motion = [m for oid, (m, _) in outcome.motion.items() if oid not in dropped]
     report = SettleReport(
-        dropped=[
-            Dropped(k, by_id[k].category, f"physics: {v}") for k, v in dropped.items()
-        ],
+        dropped=[Dropped(k, by_id[k].category, f"physics: {v}") for k, v in dropped.items()],
         seconds=round(outcome.seconds, 4),
         max_motion_m=round(float(max(motion, default=0.0)), 4),
         mean_motion_m=round(float(np.mean(motion)) if motion else 0.0, 4),

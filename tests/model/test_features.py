@@ -146,3 +146,41 @@ def test_condition_is_bayes_on_the_given_dims():
     torch.testing.assert_close(
         log_prob(free, x[:, [0, 2]]), log_prob(params, x) - log_prob(marg, values)
     )
+
+
+def test_anchor_frames_keep_scores_densities_of_the_stored_vector(data):
+    """Wall and functional frames: target and log Jacobian against finite differences of
+    the map stored canonical vector -> the frame's model target."""
+    from pair2scene.model.features import _tuple_frames
+    from pair2scene.model.layout import FRAME_FUNCTIONAL, FRAME_SUPPORT, FRAME_WALL
+
+    kinds, frame_boxes = _tuple_frames(data)
+    assert {FRAME_WALL, FRAME_FUNCTIONAL, FRAME_SUPPORT} <= set(kinds.tolist())
+    feats = dataset_features(data, "full", with_clouds=False, anchor_frames=True).arrays
+    np.testing.assert_array_equal(feats.frames, kinds)
+    for kind in (FRAME_WALL, FRAME_FUNCTIONAL):
+        for i in np.flatnonzero(kinds == kind)[:3]:
+            sup = OrientedBox.from_vector(data.support.box[i].astype(np.float64))
+            frame = OrientedBox.from_vector(frame_boxes[i])
+            f = frame_factor(frame.size)
+
+            def fn(v, sup=sup, frame=frame, f=f):
+                world = OrientedBox(
+                    sup.rotation @ (v[:3] * sup.half_size) + sup.center,
+                    v[3:6] * sup.half_size,
+                    np.eye(3),
+                )
+                rel_c = frame.rotation.T @ (world.center - frame.center) / frame.half_size
+                rel_s = world.size / frame.half_size
+                c0 = frame.rotation.T @ sup.rotation @ v[6:9]
+                c1 = frame.rotation.T @ sup.rotation @ v[9:12]
+                return target_of(to_model_frame(np.concatenate([rel_c, rel_s, c0, c1]), f))
+
+            xi = data.canonical[i].astype(np.float64)
+            assert feats.log_jacobian[i] == pytest.approx(_log_abs_det(fn, xi), abs=1e-4)
+            np.testing.assert_allclose(feats.target[i], fn(xi), atol=1e-4)
+    # support-frame tuples are unchanged by the option
+    plain = dataset_features(data, "full", with_clouds=False).arrays
+    same = kinds == FRAME_SUPPORT
+    np.testing.assert_allclose(feats.target[same], plain.target[same], atol=1e-6)
+    np.testing.assert_allclose(feats.log_jacobian[same], plain.log_jacobian[same])

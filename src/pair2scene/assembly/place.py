@@ -34,7 +34,7 @@ of candidates. Same seed, same model, same hierarchy: the same scene.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -57,6 +57,7 @@ from pair2scene.assembly.rest import (
     rest_on_surfaces,
 )
 from pair2scene.assembly.sizes import SizeTable
+from pair2scene.assembly.walls import WallRules, free_length, free_stretches, wall_order
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
@@ -64,6 +65,7 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
+from pair2scene.scene.walls import walls_of
 
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
@@ -125,6 +127,11 @@ class AssemblyConfig:
     dense_max_load: float | None = 0.5
     """The same for ``beyond`` scenes (``place(dense=True)``), which ask for clutter: more
     objects per surface, at the cost of more resamples."""
+    walls: bool = True
+    """Stand floor objects against a wall as often as the training rooms do (per room
+    type and category, :class:`~pair2scene.assembly.walls.WallRules`), drawing them in
+    the wall's frame (a model with anchor frames), one wall with room for them at a time;
+    False draws every floor object in the room's (or its functional anchor's) frame."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     confine: bool = True
@@ -293,6 +300,7 @@ class Placer:
         sizes: SizeTable | None = None,
         config: AssemblyConfig | None = None,
         sup_dep: dict[str, dict[str, int]] | None = None,
+        walls: WallRules | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -300,6 +308,9 @@ class Placer:
         self.sup_dep = sup_dep
         """support category -> dependent category -> count (the hierarchy statistics):
         where :func:`balance_supports` may move objects from a full support."""
+        self.walls = walls
+        """Which floor objects stand against a wall, and which wall first (None: none
+        takes a wall anchor)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -413,13 +424,9 @@ class Placer:
                 region = floor_region(room, asset.size, cfg.floor_repair_m + cfg.wall_snap_m)
             query = PlacementQuery(node.category, asset.size, support, functional, bounds,
                                    asset=asset, region=region)  # fmt: skip
-            t0 = time.perf_counter()
-            boxes, mass = self.model.draw(query, n, cfg.temperature, generator)
-            if region is not None and mass is not None:
-                stats.outside_mass.append(1.0 - mass)
-            timer["model"] += time.perf_counter() - t0
-
-            t0 = time.perf_counter()
+            queries = [query]
+            if item.support == FLOOR:
+                queries = self._wall_queries(query, node, room, placed, seed) or queries
             on_floor_ = item.support == FLOOR
             ref_yaw = 0.0 if on_floor_ else placed[item.support].box.yaw
             snap = cfg.snap_yaw_deg if on_floor_ else cfg.snap_yaw_support_deg
@@ -430,22 +437,35 @@ class Placer:
                                contact_rectangle(asset))  # fmt: skip
             accepted = None
             own: dict[str, int] = {}
-            for index, vec in enumerate(boxes):
-                drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
-                box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's own
-                if not cfg.reject:
-                    box, moved = self._unjudged(box, context)
-                    accepted = (index, box)
+            tried = 0
+            for k, q in enumerate(queries):  # a wall at a time, each its share of the n
+                n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
+                t0 = time.perf_counter()
+                boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
+                if k == 0 and region is not None and mass is not None:
+                    stats.outside_mass.append(1.0 - mass)
+                timer["model"] += time.perf_counter() - t0
+
+                t0 = time.perf_counter()
+                for index, vec in enumerate(boxes):
+                    drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
+                    box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's
+                    if not cfg.reject:
+                        box, moved = self._unjudged(box, context)
+                        accepted = (tried + index, box)
+                        stats.repaired += int(moved)
+                        break
+                    box, reason, moved = self._settle_candidate(box, context)
+                    if reason is not None:
+                        own[reason] = own.get(reason, 0) + 1
+                        continue
+                    accepted = (tried + index, box)
                     stats.repaired += int(moved)
                     break
-                box, reason, moved = self._settle_candidate(box, context)
-                if reason is not None:
-                    own[reason] = own.get(reason, 0) + 1
-                    continue
-                accepted = (index, box)
-                stats.repaired += int(moved)
-                break
-            timer["collision"] += time.perf_counter() - t0
+                tried += len(boxes)
+                timer["collision"] += time.perf_counter() - t0
+                if accepted is not None:
+                    break
             for reason, count in own.items():
                 rejections[reason] = rejections.get(reason, 0) + count
             if accepted is None:
@@ -473,6 +493,27 @@ class Placer:
         stats.seconds = {**timer, "total": time.perf_counter() - start}
         scene = Scene(scene_id, room, objects, source="pair2scene", stats=stats.to_dict())
         return Placement(scene, stats, {oid: p.asset for oid, p in placed.items()})
+
+    def _wall_queries(self, query, node, room: Room, placed: dict[str, _Placed], seed: int) -> list:
+        """``query`` once per wall to try, best first (:func:`wall_order`), when the wall
+        rules put this floor object against a wall and a wall has room for it; else []."""
+        if self.walls is None or not self.config.walls:
+            return []
+        if not self.walls.against_wall(room.type, node.category, asset_seed(node.id, seed)):
+            return []
+        size = np.asarray(query.size, float)
+        walls = walls_of(room.floor_polygon)
+        boxes = [p.box for p in placed.values() if p.box.bottom < 0.05]
+        free = [
+            free_length(free_stretches(w, room, boxes, size[1], size[2]), size[0]) for w in walls
+        ]
+        rng = np.random.default_rng([asset_seed(node.id, seed), 181])
+        anchor = distance = None
+        if query.functional is not None:
+            anchor = query.functional.box
+            distance = self.walls.distance(node.category, query.functional.category)
+        order = wall_order(walls, free, rng, anchor, distance)
+        return [replace(query, wall=walls[i].frame(room.height)) for i in order]
 
     def _settle_candidate(
         self, box: OrientedBox, ctx: _Context

@@ -193,7 +193,7 @@ def with_config(
                 value = kwargs.pop(option.param, None)
                 if value is None:
                     continue
-                path = option.path[len(prefix):]
+                path = option.path[len(prefix) :]
                 given[path] = value if option.kind is bool else option.parse(value)
             try:
                 config = apply_options(config_cls(), given)

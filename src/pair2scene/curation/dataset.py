@@ -13,6 +13,10 @@ A shard holds, for N tuples (names as stored)::
     {dep,sup,func}_box            (N, 12) f32   world box: centre, size, 6D rotation (NaN: none)
     canonical                     (N, 12) f32   dependent in the support anchor's frame
     canonical_functional          (N, 12) f32   dependent in the functional anchor's frame
+    wall_box                      (N, 12) f32   the frame of the wall a floor object stands
+                                                against (NaN: none; version 2)
+    wall_index                    (N,) int32    that wall's edge of the floor polygon (-1)
+    canonical_wall                (N, 12) f32   dependent in that wall's frame (NaN: none)
     {dep,sup,func}_id             (N,) int32    index into ``strings`` (-1: none)
     {dep,sup,func}_asset_source   (N,) int32    index into ``strings`` (-1: no asset)
     {dep,sup,func}_asset_id       (N,) int32    index into ``strings`` (-1: none)
@@ -49,7 +53,8 @@ from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import AssetRef
 
 PAIRS_FORMAT = "pair2scene.pairs"
-PAIRS_VERSION = 1
+PAIRS_VERSION = 2
+"""2: the wall anchor (``wall_box``, ``wall_index``, ``canonical_wall``) of issue 18."""
 MANIFEST = "manifest.json"
 SHARD_DIR = "shards"
 SHARD_SIZE = 4096
@@ -103,6 +108,9 @@ def encode_tuples(tuples: Sequence[PairTuple]) -> dict[str, np.ndarray]:
             arrays[f"{m}_{col}"] = np.full(n, -1, np.int32)
     arrays["canonical"] = np.zeros((n, 12), np.float32)
     arrays["canonical_functional"] = np.full((n, 12), np.nan, np.float32)
+    arrays["wall_box"] = np.full((n, 12), np.nan, np.float32)
+    arrays["wall_index"] = np.full(n, -1, np.int32)
+    arrays["canonical_wall"] = np.full((n, 12), np.nan, np.float32)
     for col in STRING_COLUMNS:
         arrays[col] = np.full(n, -1, np.int32)
     for i, t in enumerate(tuples):
@@ -121,6 +129,10 @@ def encode_tuples(tuples: Sequence[PairTuple]) -> dict[str, np.ndarray]:
         arrays["canonical"][i] = t.canonical.to_vector()
         if t.canonical_functional is not None:
             arrays["canonical_functional"][i] = t.canonical_functional.to_vector()
+        if t.wall is not None:
+            arrays["wall_box"][i] = t.wall.box.to_vector()
+            arrays["wall_index"][i] = int(t.wall.id.rsplit("_", 1)[1])
+            arrays["canonical_wall"][i] = t.canonical_wall.to_vector()
         for col in STRING_COLUMNS:
             arrays[col][i] = strings(getattr(t, col))
     arrays["strings"] = strings.table()
@@ -366,6 +378,12 @@ class PairsDataset:
     """(N, 12) float32: the dependent's box in the support anchor's canonical frame."""
     canonical_functional: np.ndarray
     """(N, 12) float32: ... in the functional anchor's frame; NaN without one."""
+    wall_box: np.ndarray
+    """(N, 12) float32: the frame of the wall the dependent stands against; NaN without."""
+    wall_index: np.ndarray
+    """(N,) int32: that wall's edge index in the room's floor polygon; -1 without."""
+    canonical_wall: np.ndarray
+    """(N, 12) float32: the dependent's box in the wall's frame; NaN without."""
     source: np.ndarray
     """(N,) str."""
     scene_id: np.ndarray
@@ -398,6 +416,10 @@ class PairsDataset:
 
         dep, sup, func = member(self.dependent), member(self.support), member(self.functional)
         assert dep is not None and sup is not None
+        wall = None
+        if self.wall_index[i] >= 0:
+            wall_box = OrientedBox.from_vector(self.wall_box[i])
+            wall = Member(f"wall_{int(self.wall_index[i])}", "wall", None, wall_box)
         return PairTuple(
             source=str(self.source[i]),
             scene_id=str(self.scene_id[i]),
@@ -410,6 +432,10 @@ class PairsDataset:
             canonical=OrientedBox.from_vector(self.canonical[i]),
             canonical_functional=(
                 None if func is None else OrientedBox.from_vector(self.canonical_functional[i])
+            ),
+            wall=wall,
+            canonical_wall=(
+                None if wall is None else OrientedBox.from_vector(self.canonical_wall[i])
             ),
         )
 
@@ -493,5 +519,8 @@ def _assemble(shards: list[dict[str, np.ndarray]], doc: dict) -> PairsDataset:
         scene_id=strings("scene_id"),
         split=strings("split"),
         room_type=strings("room_type"),
+        wall_box=cat("wall_box", np.float32, (12,)),
+        wall_index=cat("wall_index", np.int32),
+        canonical_wall=cat("canonical_wall", np.float32, (12,)),
         manifest=doc,
     )

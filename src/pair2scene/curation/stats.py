@@ -6,7 +6,10 @@
   functional anchor of a category, among objects on a support of a category;
 - per room type: templates, the multisets of floor-standing furniture (with counts) that
   rooms of that type hold, from which each category's count distribution follows, and
-  the distribution of the number of placed objects per room.
+  the distribution of the number of placed objects per room;
+- per room type and floor category: how many stand on the floor and how many of those
+  stand against a wall (:func:`~pair2scene.curation.tuples.wall_anchor`), from which
+  placement decides which objects take a wall as an anchor.
 
 "Placed objects" are those that give relation tuples (pair2scene.curation.tuples):
 objects with a support that are neither structure nor parts. Statistics are plain
@@ -21,9 +24,10 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from pair2scene.categories import SuperCategory
-from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES
+from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
+from pair2scene.scene.walls import walls_of
 
 STATS_FORMAT = "pair2scene.hierarchy_stats"
 STATS_VERSION = 1
@@ -56,6 +60,17 @@ class RoomTypeStats:
     """(layout, number of placed objects) of a room -> number of rooms: which counts went
     with which furniture (a room of one dresser held 12 objects, not 30). Empty in
     statistics written before it was kept (then only the two marginals are known)."""
+    on_floor: Counter[str] = field(default_factory=Counter)
+    """Category -> objects of it standing on the floor."""
+    against_wall: Counter[str] = field(default_factory=Counter)
+    """Category -> of those, how many stand against a wall. Empty in statistics written
+    before it was kept (then no object takes a wall anchor)."""
+
+    def wall_rate(self, category: str, prior: float = 1.0) -> float:
+        """Share of ``category``'s floor objects that stand against a wall, with ``prior``
+        pseudo-counts split evenly (0.5 for a category never seen on the floor)."""
+        n = self.on_floor.get(category, 0)
+        return (self.against_wall.get(category, 0) + 0.5 * prior) / (n + prior)
 
     def templates(self, top: int | None = None) -> list[tuple[dict[str, int], int]]:
         """The ``top`` most frequent furniture multisets as ({category: count}, rooms),
@@ -79,6 +94,8 @@ class RoomTypeStats:
         self.layouts.update(other.layouts)
         self.object_counts.update(other.object_counts)
         self.layout_counts.update(other.layout_counts)
+        self.on_floor.update(other.on_floor)
+        self.against_wall.update(other.against_wall)
 
 
 def _layout_key(furniture: dict[str, int]) -> tuple[str, ...]:
@@ -104,6 +121,12 @@ class HierarchyStats:
     func_dep: dict[str, dict[str, Counter[str]]] = field(default_factory=dict)
     """support category -> functional anchor category -> dependent category -> count."""
     room_types: dict[str, RoomTypeStats] = field(default_factory=dict)
+    wall_anchor: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+    """dependent category -> functional anchor category -> [n, sum, sum of squares] of
+    the anchor's distance (m) from the wall the dependent stands against, its centre
+    measured along that wall's inward normal: a nightstand's bed is about a bed's half
+    length from the nightstand's wall, a TV stand's sofa a room's depth. Placement picks
+    the wall of an object with both anchors by it."""
 
     # -- fitting ------------------------------------------------------------------
     @classmethod
@@ -139,6 +162,19 @@ class HierarchyStats:
         room.layouts[layout] += 1
         room.object_counts[len(placed)] += 1
         room.layout_counts[layout, len(placed)] += 1
+        walls = walls_of(scene.room.floor_polygon)
+        for o in placed:
+            if o.support != FLOOR:
+                continue
+            room.on_floor[o.category] += 1
+            wall = wall_anchor(scene, o, walls)
+            room.against_wall[o.category] += int(wall is not None)
+            anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
+            if wall is not None and anchor is not None:
+                d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres
+                acc = self.wall_anchor.setdefault(o.category, {})
+                acc.setdefault(anchor.category, [0.0, 0.0, 0.0])
+                acc[anchor.category] = [a + b for a, b in zip(acc[anchor.category], (1, d, d * d))]
         self.rooms += 1
 
     @classmethod
@@ -155,6 +191,11 @@ class HierarchyStats:
                     dst.setdefault(func, Counter()).update(deps)
             for rtype, rs in p.room_types.items():
                 out.room_types.setdefault(rtype, RoomTypeStats()).add(rs)
+            for dep, per_anchor in p.wall_anchor.items():
+                dst = out.wall_anchor.setdefault(dep, {})
+                for anchor, acc in per_anchor.items():
+                    old = dst.get(anchor, [0.0, 0.0, 0.0])
+                    dst[anchor] = [a + b for a, b in zip(old, acc)]
         return out
 
     # -- queries ------------------------------------------------------------------
@@ -182,6 +223,10 @@ class HierarchyStats:
                     for cat, hist in rs.furniture_counts().items()
                 },
                 "object_counts": counts(rs.object_counts),
+                "walls": {
+                    cat: {"on_floor": n, "against_wall": rs.against_wall.get(cat, 0)}
+                    for cat, n in sorted(rs.on_floor.items())
+                },
             }
         return {
             "format": STATS_FORMAT,
@@ -194,6 +239,10 @@ class HierarchyStats:
                 for s, pf in sorted(self.func_dep.items())
             },
             "room_types": room_types,
+            "wall_anchor": {
+                d: {a: [round(v, 6) for v in acc] for a, acc in sorted(pa.items())}
+                for d, pa in sorted(self.wall_anchor.items())
+            },
         }
 
     def to_json(self) -> str:
@@ -224,7 +273,12 @@ class HierarchyStats:
                     for k, v in t.get("object_counts", {}).items():
                         rs.layout_counts[key, int(k)] += int(v)
                 rs.object_counts = Counter({int(k): int(v) for k, v in rd["object_counts"].items()})
+                for cat, w in rd.get("walls", {}).items():
+                    rs.on_floor[cat] = int(w["on_floor"])
+                    rs.against_wall[cat] = int(w["against_wall"])
                 out.room_types[rtype] = rs
+            for d, pa in doc.get("wall_anchor", {}).items():
+                out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
         except (KeyError, TypeError, ValueError, AttributeError) as e:
             raise UserError(f"{where}: malformed statistics ({type(e).__name__}: {e})") from None
         return out

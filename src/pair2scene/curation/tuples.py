@@ -17,6 +17,10 @@ from enum import Enum
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, AssetRef, Scene, SceneObject
+from pair2scene.scene.walls import Wall, wall_contact, walls_of
+
+WALL = "wall"
+"""Category of a wall member (a structure category: never a dependent)."""
 
 
 class RelationKind(str, Enum):
@@ -67,6 +71,14 @@ class PairTuple:
     """The dependent's box in the support anchor's canonical frame."""
     canonical_functional: OrientedBox | None
     """The dependent's box in the functional anchor's canonical frame (None without one)."""
+    wall: Member | None = None
+    """For a floor object standing against a wall (:func:`~pair2scene.scene.walls.wall_contact`:
+    a face within 0.15 m of it, parallel within 15 degrees): that wall, its box the wall's
+    frame (:meth:`~pair2scene.scene.walls.Wall.frame`: x along the wall, y into the room,
+    z up), its id ``wall_<edge index>``. A third anchor beside the support and the
+    functional anchor (a nightstand: the floor, the bed, the wall behind both)."""
+    canonical_wall: OrientedBox | None = None
+    """The dependent's box in the wall's frame (None without a wall)."""
 
 
 def floor_member(scene: Scene) -> Member:
@@ -76,6 +88,23 @@ def floor_member(scene: Scene) -> Member:
 
 def _member(obj: SceneObject) -> Member:
     return Member(obj.id, obj.category, obj.asset, obj.box)
+
+
+def wall_member(wall: Wall, height: float) -> Member:
+    """A wall as a tuple member: its box is the wall's frame."""
+    return Member(f"wall_{wall.index}", WALL, None, wall.frame(height))
+
+
+def wall_anchor(scene: Scene, obj: SceneObject, walls: list[Wall] | None = None) -> Member | None:
+    """The wall ``obj`` stands against (a floor object only), as a member; None without."""
+    if obj.support != FLOOR:
+        return None
+    walls = walls_of(scene.room.floor_polygon) if walls is None else walls
+    contact = wall_contact(obj.box, walls)
+    if contact is None:
+        return None
+    wall = next(w for w in walls if w.index == contact.wall)
+    return wall_member(wall, scene.room.height)
 
 
 def scene_tuples(
@@ -95,6 +124,7 @@ def scene_tuples(
     skipped = Counter() if skipped is None else skipped
     by_id = scene.by_id()
     floor = floor_member(scene)
+    walls = walls_of(scene.room.floor_polygon)
     out = []
     for obj in scene.objects:
         if obj.super in SKIPPED_SUPER_CATEGORIES:
@@ -126,6 +156,7 @@ def scene_tuples(
         if exclude_floor_only and kind is RelationKind.FLOOR:
             skipped["floor-only excluded"] += 1
             continue
+        wall = wall_anchor(scene, obj, walls)
         out.append(
             PairTuple(
                 source=source or scene.source or "unknown",
@@ -140,6 +171,8 @@ def scene_tuples(
                 canonical_functional=(
                     None if functional is None else obj.box.in_frame_of(functional.box)
                 ),
+                wall=wall,
+                canonical_wall=None if wall is None else obj.box.in_frame_of(wall.box),
             )
         )
     return out

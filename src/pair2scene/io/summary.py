@@ -56,8 +56,9 @@ class Summary:
             "objects_per_scene": mean("objects_placed"),
             "acceptance_rate": mean("acceptance_rate"),
             "resamples_per_object": mean("resamples_per_object"),
-            "seconds_per_scene": round(float(np.mean([s["seconds"]["total"] for s in scenes])),
-                                       4),  # fmt: skip
+            "seconds_per_scene": round(
+                float(np.mean([s["seconds"]["total"] for s in scenes])), 4
+            ),  # fmt: skip
         }
 
     def write(self, out: str | Path) -> None:

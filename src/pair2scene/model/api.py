@@ -33,12 +33,19 @@ from pair2scene.model.features import (
     category_index,
     dataset_features,
     encode_clouds,
+    frame_choice,
     frame_factor,
     from_model_frame,
     room_cloud,
     to_model_frame,
 )
-from pair2scene.model.layout import FUNCTIONAL, SUPPORT, LayoutBatch, LayoutPredictor
+from pair2scene.model.layout import (
+    FRAME_SUPPORT,
+    FUNCTIONAL,
+    SUPPORT,
+    LayoutBatch,
+    LayoutPredictor,
+)
 from pair2scene.model.layout import LayoutVariant as Variant
 from pair2scene.model.mixture import (
     BOX_DIM,
@@ -132,6 +139,9 @@ class PlacementQuery:
     asset: Asset | None = None
     """The dependent's asset (its cloud); None: ``cloud`` or a procedural one."""
     cloud: np.ndarray | None = None
+    wall: OrientedBox | None = None
+    """The frame (:meth:`~pair2scene.scene.walls.Wall.frame`) of the wall a floor object is
+    to stand against: a model with anchor frames then draws in that wall's frame."""
     region: OrientedBox | None = None
     """A world box outside whose footprint a candidate's centre would be rejected whatever
     else (a floor object beyond its reach of the room): :meth:`LayoutModel.sample` then
@@ -209,7 +219,9 @@ class LayoutModel:
         # scoring asks for one and then the other.
         if self._last_scores is not None and self._last_scores[0] is data:
             return self._last_scores[1]
-        features = dataset_features(data, self.variant)
+        features = dataset_features(
+            data, self.variant, anchor_frames=self.checkpoint.config.anchor_frames
+        )
         inputs = CloudInputs()
         if self.checkpoint.config.uses_points:
             clouds = build_clouds(features.clouds, self.n_points, progress=progress)
@@ -263,10 +275,22 @@ class LayoutModel:
             self._asset_clouds.popitem(last=False)
         return cloud
 
+    def frame(self, query: PlacementQuery) -> tuple[int, OrientedBox]:
+        """(frame kind, frame box) ``query`` is drawn in: its governing anchor's frame
+        (:func:`~pair2scene.model.features.frame_choice`) for a model with anchor frames,
+        else its support's box."""
+        sup = query.support
+        if not self.predictor.uses_frames:
+            return FRAME_SUPPORT, sup.box
+        func = None if query.functional is None else query.functional.box
+        return frame_choice(sup.box, sup.is_floor, query.wall, func)
+
     def _query_batch(self, queries: Sequence[PlacementQuery]) -> tuple[LayoutBatch, np.ndarray]:
         """A batch for ``queries`` and each query's model-frame factor (B, 3)."""
         b = len(queries)
         is_global = self.variant is Variant.GLOBAL
+        frame_kinds = torch.zeros(b, dtype=torch.long)
+        frame_sizes = torch.ones(b, 3)
         cats = torch.zeros(b, 3, dtype=torch.long)
         scales = torch.ones(b, 3, 3)
         boxes = torch.zeros(b, 2, BOX_DIM)
@@ -283,11 +307,16 @@ class LayoutModel:
                 members = [None, Anchor.floor(room), None]
                 boxes[i, 0] = torch.from_numpy(room.to_vector())
             else:
-                factors[i] = frame_factor(sup.box.size)
-                unit = np.array([0, 0, 0, 2, 2, 2, 1, 0, 0, 0, 1, 0], dtype=np.float64)
-                boxes[i, 0] = torch.from_numpy(to_model_frame(unit, factors[i]))
+                kind, frame = self.frame(q)
+                factors[i] = frame_factor(frame.size)
+                frame_kinds[i] = kind
+                frame_sizes[i] = torch.tensor(frame.size, dtype=torch.float32)
+                own = sup.box.in_frame_of(frame).to_vector()
+                if kind == FRAME_SUPPORT:
+                    own = np.array([0, 0, 0, 2, 2, 2, 1, 0, 0, 0, 1, 0], dtype=np.float64)
+                boxes[i, 0] = torch.from_numpy(to_model_frame(own, factors[i]))
                 if q.functional is not None:
-                    rel = q.functional.box.in_frame_of(sup.box).to_vector()
+                    rel = q.functional.box.in_frame_of(frame).to_vector()
                     boxes[i, 1] = torch.from_numpy(to_model_frame(rel, factors[i]))
             cats[i, 0] = category_index(q.category)
             scales[i, 0] = torch.tensor(np.asarray(q.size, dtype=np.float32))
@@ -311,6 +340,8 @@ class LayoutModel:
                     row_clouds[0] = _procedural_cloud(q.category, q.size, self.n_points)
             clouds.append(row_clouds)
         batch = LayoutBatch(cats, scales, boxes, mask.clone())
+        if self.predictor.uses_frames:
+            batch.frames, batch.frame_sizes = frame_kinds, frame_sizes
         if self.checkpoint.config.uses_points:
             enc = self.encoder.config
             tokens = torch.zeros(b, 3, enc.n_groups, enc.width)
@@ -335,7 +366,7 @@ class LayoutModel:
         (centre, size, 6D; the 6D part orthonormalised)."""
         vec = box_of(samples)
         if self.variant is not Variant.GLOBAL:
-            return canonical_to_world(from_model_frame(vec, factor), query.support.box)
+            return canonical_to_world(from_model_frame(vec, factor), self.frame(query)[1])
         return _orthonormal_6d(vec)
 
     def sample(
@@ -385,7 +416,7 @@ class LayoutModel:
         corners = np.array([[sx, sy, 0.0] for sx in (-1, 1) for sy in (-1, 1)])
         world = (corners * region.half_size) @ region.rotation.T + region.center  # (4, 3)
         if self.variant is not Variant.GLOBAL:
-            sup = query.support.box
+            sup = self.frame(query)[1]
             local = (world - sup.center) @ sup.rotation / np.maximum(sup.half_size, 1e-9)
             world = local * factor
         low, high = world[:, :2].min(0), world[:, :2].max(0)
@@ -399,7 +430,7 @@ class LayoutModel:
         """``params`` conditioned on each query's known size (in the model frame)."""
         sizes = np.stack([np.asarray(q.size, dtype=np.float64) for q in queries])  # (B, 3)
         if self.variant is not Variant.GLOBAL:
-            half = np.stack([np.maximum(q.support.box.half_size, 1e-9) for q in queries])
+            half = np.stack([np.maximum(self.frame(q)[1].half_size, 1e-9) for q in queries])
             sizes = sizes / half * factors
         log_size = torch.from_numpy(np.log(np.maximum(sizes, 1e-6))).to(params.loc.dtype)
         return condition(params, [3, 4, 5], log_size)

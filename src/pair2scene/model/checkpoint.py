@@ -65,6 +65,7 @@ def layout_config_to_dict(config: LayoutConfig) -> dict:
 def layout_config_from_dict(doc: dict) -> LayoutConfig:
     """Inverse of :func:`layout_config_to_dict`; TypeError/ValueError/KeyError on bad input."""
     doc = dict(doc)
+    doc.setdefault("anchor_frames", False)  # written before issue 18: the support's frame
     mix = dict(doc.pop("mixture"))
     mix["entropy_regulariser"] = EntropyRegulariser(mix["entropy_regulariser"])
     return LayoutConfig(

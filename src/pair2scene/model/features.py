@@ -24,6 +24,26 @@ room; the stored canonical vector is a linear map of the world one (centre and s
 divided by the support's half-size ``h`` after removing its rotation), so
 ``log p_x = log p_w - sum(log world size) + 2 sum(log h)``.
 
+Anchor frames (issue 18)
+------------------------
+With :attr:`LayoutConfig.anchor_frames` a tuple is predicted in the frame of the anchor
+that governs it (:func:`frame_choice`), not always its support's:
+
+- a floor object standing against a wall (the tuple's ``wall_box``): the wall's frame,
+  x along the wall (in units of its half-length), y metres into the room, z the room's
+  height; "back to the wall, facing in" is one narrow mode there;
+- else a floor object with a functional anchor: the anchor's *footprint frame*
+  (:func:`footprint_frame`: its centre, yaw and width/depth, z the room's height), so
+  "a chair in front of the table, facing it" is local to the table;
+- else its support's frame, as before.
+
+The support anchor (the room) joins as an anchor box in that frame, the functional
+anchor too. Scores stay densities of the stored canonical vector: from the stored
+support frame to another frame is an affine map with a constant Jacobian (centre:
+``prod(h_support) / prod(h_frame)``; size: the same per axis; rotation: a rotation), so
+``log p_x = log p_y + sum(log f) + sum(log h_s) - sum(log h_f) - sum(log size)`` with
+``f`` the frame's model-frame factor.
+
 Geometry
 --------
 Each member's cloud is sampled from its procedural asset (the same seed per object id
@@ -48,6 +68,9 @@ from pair2scene.assets.pointcloud import sample_asset
 from pair2scene.categories import UNKNOWN
 from pair2scene.curation.dataset import CATEGORY_VOCAB, PairsDataset
 from pair2scene.model.layout import (
+    FRAME_FUNCTIONAL,
+    FRAME_SUPPORT,
+    FRAME_WALL,
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
     SUPPORT,
@@ -111,6 +134,42 @@ def box_of(target: np.ndarray) -> np.ndarray:
     out = np.array(target, dtype=np.float64)
     out[..., 3:6] = np.exp(out[..., 3:6])
     return out
+
+
+# -- anchor frames ------------------------------------------------------------------------
+
+
+def footprint_frame(anchor: OrientedBox, room_height: float) -> OrientedBox:
+    """The frame of a floor object placed relative to ``anchor``: the anchor's footprint
+    (centre, yaw, width and depth) from the floor to the ceiling."""
+    x = anchor.rotation[:, 0]
+    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
+    center = [anchor.center[0], anchor.center[1], room_height / 2]
+    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], yaw)
+
+
+def frame_choice(
+    support: OrientedBox,
+    on_floor: bool,
+    wall: OrientedBox | None,
+    functional: OrientedBox | None,
+) -> tuple[int, OrientedBox]:
+    """(frame kind, frame box) of one tuple (see the module docstring): the wall's frame
+    for a floor object against a wall, else its functional anchor's footprint frame for a
+    floor object with one, else the support's box."""
+    if on_floor and wall is not None:
+        return FRAME_WALL, wall
+    if on_floor and functional is not None:
+        return FRAME_FUNCTIONAL, footprint_frame(functional, float(support.size[2]))
+    return FRAME_SUPPORT, support
+
+
+def frame_log_jacobian(support_size: np.ndarray, frame_size: np.ndarray) -> np.ndarray:
+    """(N,) ``sum(log h_support) - sum(log h_frame)``: the part of the stored vector's log
+    density that the change from the support's frame to the tuple's frame adds."""
+    hs = np.maximum(0.5 * np.asarray(support_size, np.float64), CANONICAL_EPS)
+    hf = np.maximum(0.5 * np.asarray(frame_size, np.float64), CANONICAL_EPS)
+    return np.log(hs).sum(-1) - np.log(hf).sum(-1)
 
 
 # -- geometry -----------------------------------------------------------------------------
@@ -217,6 +276,10 @@ class TupleArrays:
     size_log_jacobian: np.ndarray
     """(N,) float64: log p(stored canonical size) = log p(target size dims) + this
     (``-sum(log size)``: the target's size is the log of the stored one times a constant)."""
+    frames: np.ndarray | None = None
+    """(N,) int64 frame kind of each tuple (:func:`frame_choice`); None: the support's."""
+    frame_sizes: np.ndarray | None = None
+    """(N, 3) float32 size of each tuple's frame box (m); None: the support's."""
 
     def __len__(self) -> int:
         return len(self.categories)
@@ -242,6 +305,9 @@ class TupleArrays:
             member_mask=torch.from_numpy(self.member_mask[rows]),
             target=torch.from_numpy(self.target[rows]) if with_target else None,
         )
+        if self.frames is not None:
+            batch.frames = torch.from_numpy(self.frames[rows])
+            batch.frame_sizes = torch.from_numpy(self.frame_sizes[rows])
         if tokens is not None:
             batch.point_tokens = tokens[idx]  # (B, 3, G, D)
             batch.point_centers = centers[idx]  # (B, 3, G, 3)
@@ -298,9 +364,14 @@ def _support_heights(data: PairsDataset) -> dict[tuple[str, str], tuple[float, .
 
 
 def dataset_features(
-    data: PairsDataset, variant: LayoutVariant | str, with_clouds: bool = True
+    data: PairsDataset,
+    variant: LayoutVariant | str,
+    with_clouds: bool = True,
+    anchor_frames: bool = False,
 ) -> Features:
-    """Inputs of every tuple of ``data`` for ``variant`` (see the module docstring)."""
+    """Inputs of every tuple of ``data`` for ``variant`` (see the module docstring);
+    ``anchor_frames``: each tuple in its governing anchor's frame (ignored by
+    ``global``)."""
     variant = LayoutVariant(variant)
     n = len(data)
     is_global = variant is LayoutVariant.GLOBAL
@@ -321,6 +392,7 @@ def dataset_features(
     anchor_boxes = np.zeros((n, 2, BOX_DIM), np.float32)
 
     sup_box = data.support.box.astype(np.float64)
+    frames = frame_sizes = None
     if is_global:
         room = np.stack([rooms[str(s)] for s in data.scene_id]) if n else np.zeros((0, 12))
         categories[:, SUPPORT] = category_index(FLOOR)
@@ -333,6 +405,26 @@ def dataset_features(
         half = np.maximum(0.5 * sup_box[:, 3:6], CANONICAL_EPS)
         log_jac = -np.log(np.maximum(dep[:, 3:6], MIN_TARGET_SIZE)).sum(1)
         log_jac += 2 * np.log(half).sum(1)
+    elif anchor_frames:
+        frames, frame_box = _tuple_frames(data)
+        frame_sizes = frame_box[:, 3:6].astype(np.float32)
+        factor = frame_factor(frame_box[:, 3:6])
+        anchor_boxes[:, 0] = to_model_frame(np.broadcast_to(_UNIT_CUBE, (n, 12)), factor)
+        canonical = data.canonical.astype(np.float64)
+        own = canonical.copy()  # the dependent in its frame (the stored one: the support's)
+        for i in np.flatnonzero(frames != FRAME_SUPPORT):
+            frame = OrientedBox.from_vector(frame_box[i])
+            sup = OrientedBox.from_vector(sup_box[i])
+            dep = OrientedBox.from_vector(data.dependent.box[i].astype(np.float64))
+            own[i] = dep.in_frame_of(frame).to_vector()
+            anchor_boxes[i, 0] = to_model_frame(sup.in_frame_of(frame).to_vector(), factor[i])
+        for i in np.flatnonzero(mask[:, FUNCTIONAL]):
+            frame = OrientedBox.from_vector(frame_box[i])
+            func = OrientedBox.from_vector(data.functional.box[i].astype(np.float64))
+            anchor_boxes[i, 1] = to_model_frame(func.in_frame_of(frame).to_vector(), factor[i])
+        target = target_of(to_model_frame(own, factor))
+        log_jac = np.log(factor).sum(1) + frame_log_jacobian(sup_box[:, 3:6], frame_box[:, 3:6])
+        log_jac -= np.log(np.maximum(canonical[:, 3:6], MIN_TARGET_SIZE)).sum(1)
     else:
         factor = frame_factor(sup_box[:, 3:6])
         anchor_boxes[:, 0] = to_model_frame(np.broadcast_to(_UNIT_CUBE, (n, 12)), factor)
@@ -379,8 +471,29 @@ def dataset_features(
         size_log_jacobian=-np.log(
             np.maximum(data.canonical[:, 3:6].astype(np.float64), MIN_TARGET_SIZE)
         ).sum(1),
+        frames=frames,
+        frame_sizes=frame_sizes,
     )
     return Features(arrays, list(specs))
+
+
+def _tuple_frames(data: PairsDataset) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) frame kinds and (N, 12) frame boxes of every tuple (:func:`frame_choice`)."""
+    n = len(data)
+    kinds = np.full(n, FRAME_SUPPORT, np.int64)
+    boxes = data.support.box.astype(np.float64).copy()
+    on_floor = data.support.id == FLOOR
+    has_wall = data.wall_index >= 0
+    has_func = data.functional.present
+    for i in np.flatnonzero(on_floor & (has_wall | has_func)):
+        kind, frame = frame_choice(
+            OrientedBox.from_vector(boxes[i]),
+            True,
+            OrientedBox.from_vector(data.wall_box[i]) if has_wall[i] else None,
+            OrientedBox.from_vector(data.functional.box[i]) if has_func[i] else None,
+        )
+        kinds[i], boxes[i] = kind, frame.to_vector()
+    return kinds, boxes
 
 
 def _size3(size: np.ndarray) -> tuple[float, float, float]:

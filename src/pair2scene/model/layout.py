@@ -117,6 +117,11 @@ MIN_ANCHOR_HALF_M = 0.05
 """Floor on the support's half-size per axis in the model frame (metres), see
 :mod:`pair2scene.model.features`: canonical heights on 1.7 cm counter tops would reach
 the hundreds."""
+FRAME_SUPPORT, FRAME_WALL, FRAME_FUNCTIONAL = 0, 1, 2
+"""The anchor whose frame a tuple is predicted in (:attr:`LayoutConfig.anchor_frames`):
+its support's (the room for a floor object), the wall it stands against, or its
+functional anchor's footprint (see :mod:`pair2scene.model.features`)."""
+FRAME_NAMES = ("support", "wall", "functional")
 HEAD_INIT_STD = 0.02
 """Std of the head's output layer at initialisation: raw outputs start near 0, i.e.
 uniform weights, locations near 0 and log scales near 0 (unit-scale logistics)."""
@@ -166,6 +171,12 @@ class LayoutConfig:
     """``full`` / ``global``: also train the pretrained encoder (False keeps it frozen,
     in eval mode, and lets the trainer cache its tokens). ``no-pretrain`` always trains
     it."""
+    anchor_frames: bool = True
+    """Predict each tuple in the frame of the anchor that governs it (a floor object
+    against a wall in the wall's frame, one with a functional anchor in that anchor's
+    footprint frame; docs/model.md), with a learned embedding of which frame it is.
+    False: every tuple in its support's frame (the paper; checkpoints written before
+    issue 18). ``global`` ignores it."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "variant", LayoutVariant(self.variant))
@@ -230,6 +241,12 @@ class LayoutBatch:
     """(B, 3, G, 3) float: the encoder's group centres of each member's cloud."""
     target: Tensor | None = None
     """(B, 12) float: the dependent's box as a model target (centre, log size, 6D)."""
+    frames: Tensor | None = None
+    """(B,) long: the frame each tuple is predicted in (:data:`FRAME_NAMES`); None: the
+    support's, for every tuple."""
+    frame_sizes: Tensor | None = None
+    """(B, 3) float: the size (m) of each tuple's frame box; None: the support's
+    (``scales[:, 1]``)."""
 
     @property
     def batch_size(self) -> int:
@@ -401,6 +418,8 @@ class LayoutPredictor(nn.Module):
             self.blocks = nn.ModuleList(LayoutBlock(c) for _ in range(c.depth))
             self.ln_f = nn.LayerNorm(c.width)
             self.head = MLP(c.queries * c.width, c.width, c.mixture.head_dim)
+            if self.uses_frames:
+                self.frame = nn.Embedding(len(FRAME_NAMES), c.width)
         self.to_empty(device="cpu")
         self._init_weights(torch.Generator().manual_seed(0) if generator is None else generator)
 
@@ -408,6 +427,11 @@ class LayoutPredictor(nn.Module):
         if self.point_encoder is not None and not c.trains_encoder:
             self.point_encoder.requires_grad_(False)
             self.point_encoder.eval()
+
+    @property
+    def uses_frames(self) -> bool:
+        """Whether tuples are predicted in their governing anchor's frame."""
+        return self.config.anchor_frames and self.config.variant is not LayoutVariant.GLOBAL
 
     def _init_weights(self, generator: torch.Generator) -> None:
         """Truncated normal weights with std 1/sqrt(fan_in) (unit gain), residual
@@ -514,6 +538,9 @@ class LayoutPredictor(nn.Module):
         boxes = torch.where(mask[:, 1:, None], boxes, 0.0)
         known = self.known_target(batch)  # (B, 12)
         dep_spatial = self.unknown_box + self.known_size_mlp(known[:, 3:6])  # (B, D)
+        if self.uses_frames:
+            frames = batch.frames if batch.frames is not None else known.new_zeros(b).long()
+            dep_spatial = dep_spatial + self.frame(frames)
         spatial = torch.cat([dep_spatial[:, None], self.box_mlp(boxes)], dim=1)  # (B, M, D)
         spatial = spatial[:, :, None, :].expand(b, m, q, d).reshape(b, m * q, d)
         key_mask = mask[:, :, None].expand(b, m, q).reshape(b, m * q)  # (B, M*Q)
@@ -535,7 +562,8 @@ class LayoutPredictor(nn.Module):
     def known_target(self, batch: LayoutBatch) -> Tensor:
         """(B, 12) what the inputs fix of the target: the dependent's log size in the
         model frame and the centre height of an upright object resting on its support's
-        top (on the floor: the room's bottom); 0 elsewhere. ``global``: world frame, the
+        top (on the floor: the room's bottom; every frame of a floor object spans the
+        room's height, so its bottom is the floor); 0 elsewhere. ``global``: world frame, the
         floor at z = 0."""
         dep = batch.scales[:, DEPENDENT].clamp_min(MIN_TARGET_SIZE)  # (B, 3) metres
         known = dep.new_zeros(dep.shape[0], BOX_DIM)
@@ -543,7 +571,8 @@ class LayoutPredictor(nn.Module):
             known[:, 2] = 0.5 * dep[:, 2]
             known[:, 3:6] = dep.log()
             return known
-        half = (0.5 * batch.scales[:, SUPPORT]).clamp_min(1e-9)  # (B, 3)
+        frame = batch.scales[:, SUPPORT] if batch.frame_sizes is None else batch.frame_sizes
+        half = (0.5 * frame).clamp_min(1e-9)  # (B, 3)
         size = dep / half.clamp_min(MIN_ANCHOR_HALF_M)  # model-frame size
         top = half[:, 2] / half[:, 2].clamp_min(MIN_ANCHOR_HALF_M)  # the support's top
         on_floor = batch.categories[:, SUPPORT] == FLOOR_INDEX

@@ -69,6 +69,9 @@ class TrainConfig:
     seed: int = 0
     """Seeds the weights and the batch order."""
     device: str = "cpu"
+    anchor_frames: bool = True
+    """Predict each tuple in its governing anchor's frame (a wall, a functional anchor;
+    docs/model.md); False: every tuple in its support's frame, as the paper does."""
 
     def resolved_preset(self) -> TrainPreset:
         try:
@@ -79,6 +82,10 @@ class TrainConfig:
             if self.epochs < 1:
                 raise UserError("--epochs must be >= 1")
             p = dataclasses.replace(p, epochs=self.epochs)
+        if p.layout.anchor_frames != self.anchor_frames:
+            p = dataclasses.replace(
+                p, layout=dataclasses.replace(p.layout, anchor_frames=self.anchor_frames)
+            )
         return p
 
 
@@ -155,8 +162,11 @@ def _split_rows(data: PairsDataset, split: str) -> np.ndarray:
 
 
 def _subset(arrays: TupleArrays, rows: np.ndarray) -> TupleArrays:
-    return TupleArrays(**{f.name: getattr(arrays, f.name)[rows]
-                          for f in dataclasses.fields(TupleArrays)})  # fmt: skip
+    def take(name: str):
+        value = getattr(arrays, name)
+        return None if value is None else value[rows]
+
+    return TupleArrays(**{f.name: take(f.name) for f in dataclasses.fields(TupleArrays)})
 
 
 def _load_frozen_encoder(config: TrainConfig, p: TrainPreset) -> PointMAEEncoder:
@@ -240,7 +250,7 @@ def train(
         )
 
     # -- inputs ------------------------------------------------------------------------
-    features = dataset_features(data, variant)
+    features = dataset_features(data, variant, anchor_frames=p.layout.anchor_frames)
     train_arr, val_arr = _subset(features.arrays, train_rows), _subset(features.arrays, val_rows)
     encoder = None
     inputs = CloudInputs()

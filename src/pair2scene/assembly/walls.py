@@ -1,0 +1,155 @@
+"""Which floor objects take a wall as an anchor, and which wall.
+
+:class:`WallRules` holds what the hierarchy statistics learned from the training rooms
+(:class:`~pair2scene.curation.stats.HierarchyStats`): per room type and category, the
+share of floor objects standing against a wall (beds, dressers, fridges and counters
+nearly always; chairs and dining tables rarely), and per (dependent, functional anchor)
+pair how far the anchor stands from the dependent's wall (a nightstand's bed: half a bed
+length; a TV stand's sofa: across the room).
+
+The placer asks, per floor object: does it stand against a wall (a draw seeded by the
+object's id and the scene seed), and if so, in which order to try the room's walls
+(:func:`wall_order`): only walls with a free stretch at least as wide as the object
+(:func:`free_length`: doors, windows below the object's top and the objects already
+standing along the wall subtracted), the pair's learned distance first when the object
+has a functional anchor, else at random weighted by free length.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pair2scene.curation.stats import HierarchyStats
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import Room
+from pair2scene.scene.walls import Wall
+
+DOOR_MARGIN_M = 0.1
+"""Free wall kept beside a door's frame."""
+MIN_DISTANCE_STD_M = 0.3
+"""Floor on the spread of a pair's learned anchor distance (few pairs have many rooms)."""
+_SALT = 18
+"""Mixed into the object's seed for the wall draw (independent of its asset's draws)."""
+
+
+@dataclass
+class WallRules:
+    """Wall rates per room type and category, and anchor distances per pair."""
+
+    rates: dict[str, dict[str, tuple[int, int]]] = field(default_factory=dict)
+    """room type -> category -> (against a wall, on the floor)."""
+    distances: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
+    """dependent -> functional anchor -> (mean, std) of the anchor's distance (m) from the
+    dependent's wall."""
+
+    @classmethod
+    def from_stats(cls, stats: HierarchyStats) -> WallRules:
+        rates = {
+            rt: {c: (rs.against_wall.get(c, 0), n) for c, n in rs.on_floor.items()}
+            for rt, rs in stats.room_types.items()
+        }
+        distances: dict[str, dict[str, tuple[float, float]]] = {}
+        for dep, per_anchor in stats.wall_anchor.items():
+            for anchor, (n, total, squares) in per_anchor.items():
+                if n < 1:
+                    continue
+                mean = total / n
+                std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
+                distances.setdefault(dep, {})[anchor] = (mean, std)
+        return cls(rates, distances)
+
+    def rate(self, room_type: str, category: str) -> float:
+        """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
+        every room type when this one never held it; 0 when none did)."""
+        against, n = self.rates.get(room_type, {}).get(category, (0, 0))
+        if n == 0:
+            pooled = [r[category] for r in self.rates.values() if category in r]
+            against, n = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
+        return against / n if n else 0.0
+
+    def against_wall(self, room_type: str, category: str, seed: int) -> bool:
+        """Whether an object (``seed``: its asset seed) stands against a wall: a draw."""
+        u = np.random.default_rng([seed, _SALT]).random()
+        return bool(u < self.rate(room_type, category))
+
+    def distance(self, dependent: str, anchor: str) -> tuple[float, float] | None:
+        """(mean, std) of ``anchor``'s distance from ``dependent``'s wall, if learned."""
+        return self.distances.get(dependent, {}).get(anchor)
+
+
+def _intervals_minus(free: list[tuple[float, float]], lo: float, hi: float):
+    out = []
+    for a, b in free:
+        if hi <= a or lo >= b:
+            out.append((a, b))
+            continue
+        if lo > a:
+            out.append((a, lo))
+        if hi < b:
+            out.append((hi, b))
+    return out
+
+
+def free_stretches(
+    wall: Wall,
+    room: Room,
+    placed: list[OrientedBox],
+    depth: float,
+    height: float,
+) -> list[tuple[float, float]]:
+    """The stretches (along the wall, from its midpoint) where an object ``depth`` deep
+    and ``height`` tall could stand with its back to ``wall``: the wall minus its doors
+    (and :data:`DOOR_MARGIN_M` beside them), the windows whose sill is below the object's
+    top, and what already stands within ``depth`` of the wall."""
+    half = wall.length / 2
+    free = [(-half, half)]
+    for opening in (*room.doors, *room.windows):
+        if opening.kind == "window" and opening.z_min >= height:
+            continue
+        ends = wall.local(np.array([opening.p0, opening.p1], float))
+        if np.abs(ends[:, 1]).max() > 0.05:  # not on this wall
+            continue
+        margin = DOOR_MARGIN_M if opening.kind == "door" else 0.0
+        free = _intervals_minus(free, ends[:, 0].min() - margin, ends[:, 0].max() + margin)
+    for box in placed:
+        corners = wall.local(box.corners()[:, :2])
+        if corners[:, 1].min() > depth or corners[:, 1].max() < -0.05:
+            continue
+        free = _intervals_minus(free, corners[:, 0].min(), corners[:, 0].max())
+    return free
+
+
+def free_length(stretches: list[tuple[float, float]], width: float) -> float:
+    """Summed length of the stretches at least ``width`` long (where the object fits)."""
+    return float(sum(b - a for a, b in stretches if b - a >= width))
+
+
+def wall_order(
+    walls: list[Wall],
+    free: list[float],
+    rng: np.random.Generator,
+    anchor: OrientedBox | None = None,
+    distance: tuple[float, float] | None = None,
+) -> list[int]:
+    """Indices into ``walls`` to try, best first, among those with free length > 0.
+
+    With a functional ``anchor`` and its learned ``distance`` (mean, std) from the
+    dependent's wall: by how well the anchor's distance from each wall matches it.
+    Otherwise a random order weighted by free length (longer free walls first, more
+    often).
+    """
+    usable = [i for i, f in enumerate(free) if f > 0]
+    if not usable:
+        return []
+    keys = rng.random(len(usable)) ** (1.0 / np.array([free[i] for i in usable]))
+    if anchor is not None and distance is not None:
+        mean, std = distance
+        std = max(std, MIN_DISTANCE_STD_M)
+        scores = []
+        for k, i in zip(keys, usable):
+            d = float(walls[i].local(anchor.center[:2])[1])
+            scores.append((-(((d - mean) / std) ** 2), k))
+        return [i for _, i in sorted(zip(scores, usable), key=lambda t: t[0], reverse=True)]
+    return [i for _, i in sorted(zip(keys, usable), reverse=True)]

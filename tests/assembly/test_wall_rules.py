@@ -1,0 +1,71 @@
+"""Wall anchors in placement: rates from the statistics, free stretches, the wall order."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pair2scene.assembly.walls import WallRules, free_length, free_stretches, wall_order
+from pair2scene.curation.stats import HierarchyStats
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
+from pair2scene.scene.walls import walls_of
+
+ROOM = Room(
+    "bedroom",
+    np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float),
+    doors=(Opening("door", (1.0, 0.0), (2.0, 0.0)),),
+    windows=(Opening("window", (4.0, 1.0), (4.0, 2.0), z_min=0.9, z_max=2.0),),
+)
+
+
+def _bedroom(i: int) -> Scene:
+    bed = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)  # head to the wall
+    stand = OrientedBox.from_yaw([0.9, 2.75, 0.3], [0.5, 0.4, 0.6], np.pi)
+    chair = OrientedBox.from_yaw([2.0, 0.8 + 0.01 * i, 0.45], [0.5, 0.5, 0.9])
+    objects = [
+        SceneObject("bed_0", "bed", bed, None, FLOOR),
+        SceneObject("ns_0", "nightstand", stand, None, FLOOR, functional_anchor="bed_0"),
+        SceneObject("chair_0", "chair", chair, None, FLOOR),
+    ]
+    return Scene(f"s{i}", ROOM, objects)
+
+
+def test_statistics_learn_wall_rates_and_anchor_distances():
+    stats = HierarchyStats.fit([_bedroom(i) for i in range(4)])
+    rs = stats.room_types["bedroom"]
+    assert rs.on_floor["bed"] == 4 and rs.against_wall["bed"] == 4
+    assert rs.against_wall["chair"] == 0
+    back = HierarchyStats.from_json(stats.to_json())
+    assert back.room_types["bedroom"].against_wall == rs.against_wall
+    rules = WallRules.from_stats(back)
+    assert rules.rate("bedroom", "bed") == 1.0 and rules.rate("bedroom", "chair") == 0.0
+    assert rules.rate("kitchen", "bed") == 1.0  # pooled over room types
+    mean, std = rules.distance("nightstand", "bed")
+    assert mean == pytest.approx(1.05) and std == pytest.approx(0.0, abs=1e-6)
+    assert all(rules.against_wall("bedroom", "bed", s) for s in range(20))
+    assert not any(rules.against_wall("bedroom", "chair", s) for s in range(20))
+
+
+def test_free_stretches_leave_out_doors_windows_and_what_stands_there():
+    walls = walls_of(ROOM.floor_polygon)
+    south = free_stretches(walls[0], ROOM, [], depth=0.5, height=0.8)  # the door 1..2 m
+    assert south == [(-2.0, pytest.approx(-1.1)), (pytest.approx(0.1), 2.0)]
+    east_low = free_stretches(walls[1], ROOM, [], depth=0.5, height=0.8)  # under the sill
+    east_tall = free_stretches(walls[1], ROOM, [], depth=0.5, height=2.0)
+    assert free_length(east_low, 1.0) == pytest.approx(3.0)
+    assert free_length(east_tall, 1.0) == pytest.approx(2.0)
+    bed = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)
+    north = free_stretches(walls[2], ROOM, [bed], depth=0.5, height=0.8)
+    assert free_length(north, 1.0) == pytest.approx(2.4)  # 0.8 + 0.8 m either side... 1.2 each
+    assert free_length(north, 1.3) == 0.0
+
+
+def test_wall_order_prefers_the_learned_anchor_distance():
+    walls = walls_of(ROOM.floor_polygon)
+    bed = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)
+    order = wall_order(walls, [1, 1, 1, 1], np.random.default_rng(0), bed, (1.05, 0.1))
+    assert order[0] == 2  # the bed's own wall
+    assert wall_order(walls, [0, 2, 0, 0], np.random.default_rng(0)) == [1]
+    firsts = {wall_order(walls, [1, 1, 1, 1], np.random.default_rng(s))[0] for s in range(30)}
+    assert firsts == {0, 1, 2, 3}

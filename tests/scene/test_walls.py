@@ -1,0 +1,62 @@
+"""A room's walls: segments, inward normals, frames, and which wall an object stands against."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import Room
+from pair2scene.scene.walls import WALL_FRAME_DEPTH_M, against_wall, wall_contact, walls_of
+
+RECT = Room("bedroom", np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float))
+L_ROOM = Room("bedroom", np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float))
+
+
+def test_walls_have_inward_normals_in_rectangles_and_l_shapes():
+    for room in (RECT, L_ROOM):
+        for w in walls_of(room.floor_polygon):
+            inside = w.midpoint + 0.01 * w.normal
+            outside = w.midpoint - 0.01 * w.normal
+            assert room.contains_xy(inside[None])[0] and not room.contains_xy(outside[None])[0]
+    assert len(walls_of(L_ROOM.floor_polygon)) == 6
+
+
+def test_bed_with_its_headboard_to_the_wall_faces_in():
+    walls = walls_of(RECT.floor_polygon)
+    head_to_wall = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)  # back at y=2.95
+    contact = wall_contact(head_to_wall, walls)
+    assert contact.face == "back" and contact.wall == 2
+    assert contact.gap == pytest.approx(0.05) and contact.offset == pytest.approx(0.0)
+    assert against_wall(head_to_wall, walls)
+    mid_room = OrientedBox.from_yaw([2, 1.5, 0.3], [1.6, 2.0, 0.6], np.pi)
+    assert wall_contact(mid_room, walls) is None and not against_wall(mid_room, walls)
+    facing_wall = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], 0.0)  # front at y=2.95
+    assert wall_contact(facing_wall, walls).face == "front"
+    assert not against_wall(facing_wall, walls)
+    turned = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi + np.radians(25))
+    assert not against_wall(turned, walls)
+
+
+def test_side_to_the_wall_and_the_inner_corner_of_an_l():
+    walls = walls_of(RECT.floor_polygon)
+    desk = OrientedBox.from_yaw([0.65, 1.5, 0.4], [1.2, 0.6, 0.8], 0.0)  # left side at x=0.05
+    contacts = wall_contact(desk, walls)
+    assert contacts.face in ("left", "right") and contacts.wall == 3
+    # against the L's inner wall (x = 2 for y in 2..4), not past its end
+    walls_l = walls_of(L_ROOM.floor_polygon)
+    shelf = OrientedBox.from_yaw([1.8, 3.0, 1.0], [1.0, 0.4, 2.0], np.pi / 2)  # back at x=2
+    assert wall_contact(shelf, walls_l).wall == 3
+    beyond = OrientedBox.from_yaw([3.8, 1.0, 1.0], [1.0, 0.4, 2.0], np.pi / 2)  # at x=4, y<2
+    assert wall_contact(beyond, walls_l).wall == 1
+
+
+def test_wall_frame_puts_the_wall_at_y_zero_and_metres_inward():
+    wall = walls_of(RECT.floor_polygon)[2]  # y = 3, normal -y
+    frame = wall.frame(2.7)
+    bed = OrientedBox.from_yaw([1.0, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)
+    local = bed.in_frame_of(frame)
+    assert local.center[1] * WALL_FRAME_DEPTH_M == pytest.approx(1.05)
+    assert local.center[0] == pytest.approx(1.0 / 2)  # 1 m right of the wall's midpoint / half
+    assert local.center[2] * 1.35 == pytest.approx(0.3 - 1.35)
+    assert local.yaw == pytest.approx(0.0, abs=1e-9)  # facing into the room
