@@ -121,6 +121,13 @@ def train_command(
     epochs: Annotated[int | None, typer.Option(help="Override the preset's epochs.")] = None,
     max_steps: Annotated[int | None, typer.Option(help="Stop after this many steps.")] = None,
     seed: Annotated[int, typer.Option(help="Seeds the weights and the batch order.")] = 0,
+    anchor_frames: Annotated[
+        bool,
+        typer.Option(
+            help="Predict each tuple in its governing anchor's frame (a wall, a functional "
+            "anchor); --no-anchor-frames: every tuple in its support's frame (the paper)."
+        ),
+    ] = True,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.
@@ -138,6 +145,7 @@ def train_command(
         epochs=epochs,
         max_steps=max_steps,
         seed=seed,
+        anchor_frames=anchor_frames,
     )
     result = train(config, data, out, progress=not as_json)
     doc = {
