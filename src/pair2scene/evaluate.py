@@ -16,6 +16,12 @@ process figures are then missing). The report has, at the top level:
   :mod:`~pair2scene.metrics.sca`): ``fid``, ``kid`` (x 1e-3) and ``sca`` on 256 x 256
   top views rendered identically for both sets.
 
+Beside these, one section per entry of :data:`SECTIONS`, each a table of measures that
+real rooms get too, side by side: ``layout`` (:mod:`pair2scene.metrics.layout`: furniture
+against walls, chairs facing their table, sofas facing the TV, nightstands at the bed's
+head), as ``{measure: {"generated": stat, "reference": stat}}`` with ``stat`` = ``{"rate",
+"count": [numerator, denominator], "rooms"}`` (rooms it was measurable in).
+
 The reference is filtered to the room types of the generated scenes. Per-scene physics
 is cached beside the report (``<out>.cache.json``, keyed by each scene.json's digest),
 so an interrupted evaluation resumes where it stopped.
@@ -27,7 +33,7 @@ import hashlib
 import json
 import time
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -241,6 +247,21 @@ def image_metrics(
     }
 
 
+def _layout(reference: Sequence[Scene], generated: Sequence[Scene]) -> dict:
+    from pair2scene.metrics.layout import layout_section
+
+    return layout_section(reference, generated)
+
+
+Section = Callable[[Sequence[Scene], Sequence[Scene]], dict]
+SECTIONS: dict[str, Section] = {
+    "layout": _layout,
+}
+"""The report's sections of side-by-side measures: name -> function(reference, generated)
+giving ``{measure: {"generated": stat, "reference": stat}}`` (other entries are details
+the CLI does not print); each becomes ``report[name]`` and a table of the CLI."""
+
+
 def evaluate(
     scenes: str | Path,
     references: Sequence[str],
@@ -283,6 +304,8 @@ def evaluate(
     report["category_kl"] = category_kl(reference, generated)
     poses = pose_mmd(reference, generated, seed=seed)
     report["pose_mmd"] = poses["mean"]
+    for name, section in SECTIONS.items():
+        report[name] = section(reference, generated)
     if images:
         from contextlib import nullcontext
 
@@ -352,3 +375,13 @@ HEADLINE = (
     "objects_per_scene", "seconds_per_scene", "category_kl", "pose_mmd", "sca", "fid", "kid",
 )  # fmt: skip
 """The report's top-level figures, in the order the CLI prints them."""
+
+
+def section_rows(section: dict) -> list[tuple[str, dict, dict]]:
+    """(measure, generated stat, reference stat) for every row of a report section (see
+    :data:`SECTIONS`), in its order; entries that are not rows are left out."""
+    return [
+        (name, row["generated"], row["reference"])
+        for name, row in section.items()
+        if isinstance(row, dict) and {"generated", "reference"} <= row.keys()
+    ]

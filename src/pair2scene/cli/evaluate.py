@@ -29,7 +29,7 @@ def evaluate_command(
 ) -> None:
     """Evaluate generated scenes against real rooms of the same type: physical, process
     and distribution metrics, FID/KID/SCA on top views; writes the report to OUT."""
-    from pair2scene.evaluate import HEADLINE, evaluate
+    from pair2scene.evaluate import HEADLINE, SECTIONS, evaluate, section_rows
 
     report = evaluate(scenes, reference or ["ai2thor:val"], out, physics=physics,
                       simulate=simulate, images=images, seed=seed,
@@ -44,5 +44,20 @@ def evaluate_command(
     for key in HEADLINE:
         value = report.get(key)
         typer.echo(f"  {key:<22}{'-' if value is None else f'{value:.4g}'}")
+    for name in SECTIONS:
+        rows = [r for r in section_rows(report.get(name, {})) if r[1]["rate"] is not None
+                or r[2]["rate"] is not None]  # fmt: skip
+        if rows:
+            typer.echo(f"{name:<34}{'generated':<18}reference")
+        for measure, gen, ref in rows:
+            typer.echo(f"  {measure:<32}{_stat(gen):<18}{_stat(ref)}")
     for note in report.get("notes", []):
         typer.echo(f"note: {note}")
+
+
+def _stat(stat: dict | None) -> str:
+    """``0.85 (17/20)``: the rate and its counts; ``-`` when not measurable."""
+    if not stat or stat.get("rate") is None:
+        return "-"
+    n, d = stat["count"]
+    return f"{stat['rate']:.2f} ({n}/{d})"

@@ -1,0 +1,236 @@
+"""Layout realism measures on hand-built rooms with known answers, and their place in the
+evaluation report."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from clitools import run_cli
+from pair2scene.metrics.layout import (
+    WALL_FURNITURE,
+    against_wall_counts,
+    beside_bed_head,
+    chairs_facing_table,
+    facing_angle,
+    footprint,
+    footprint_gap,
+    layout_measures,
+    layout_report,
+    nearest_point,
+    nightstands_at_bed_head,
+    on_floor,
+    sofas_facing_tv,
+)
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+
+SQUARE = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+L_SHAPE = np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float)
+"""4 x 4 m with its top-right quarter cut out: two walls meet at the reflex corner (2, 2)."""
+BED = [1.6, 2.0, 0.6]
+EAST, NORTH, WEST, SOUTH = -np.pi / 2, 0.0, np.pi / 2, np.pi
+"""Yaws that turn an object's front (+y) to face +x, +y, -x, -y."""
+
+
+def obj(oid, cat, xy, size, yaw=0.0, support=FLOOR, z=None, **kw) -> SceneObject:
+    center = [xy[0], xy[1], size[2] / 2 if z is None else z]
+    return SceneObject(oid, cat, OrientedBox.from_yaw(center, size, yaw), support=support, **kw)
+
+
+def room(*objects, polygon=SQUARE, kind="bedroom", sid="s") -> Scene:
+    return Scene(sid, Room(kind, polygon, 2.7), list(objects))
+
+
+# -- against a wall --------------------------------------------------------------------
+def test_a_bed_against_a_wall_mid_room_and_facing_the_wall():
+    against = obj("b1", "bed", [2, 1.05], BED)  # headboard 5 cm off the wall y = 0
+    middle = obj("b2", "bed", [2, 2], BED)
+    facing_wall = obj("b3", "bed", [2, 1.05], BED, yaw=SOUTH)  # its foot at the wall
+    assert against_wall_counts(room(against)) == {"bed": [1, 1]}
+    assert against_wall_counts(room(middle)) == {"bed": [0, 1]}
+    assert against_wall_counts(room(facing_wall)) == {"bed": [0, 1]}
+    # turned to the east wall x = 4, 10 cm off it
+    east = obj("b4", "bed", [4 - 1.0 - 0.1, 2], BED, yaw=WEST)
+    assert against_wall_counts(room(east)) == {"bed": [1, 1]}
+
+
+def test_per_category_and_pooled_over_the_wall_furniture():
+    scene = room(
+        obj("bed", "bed", [2, 1.05], BED),  # against
+        obj("dresser", "dresser", [2, 2.5], [1.2, 0.5, 0.8]),  # mid-room
+        obj("wardrobe", "wardrobe", [0.32, 3], [1.0, 0.6, 2.0], yaw=WEST),  # faces the wall
+        obj("chair", "chair", [3.75, 3.75], [0.45, 0.45, 0.9], yaw=SOUTH),  # not wall furniture
+        obj("drawer", "drawer", [2, 2.5], [0.5, 0.4, 0.2], part_of="dresser", support=None),
+    )
+    m = layout_measures(scene)
+    assert m["against_wall"] == [1, 3]
+    assert m["against_wall/bed"] == [1, 1] and m["against_wall/dresser"] == [0, 1]
+    assert m["against_wall/wardrobe"] == [0, 1] and m["against_wall/chair"] == [1, 1]
+    assert "against_wall/drawer" not in m
+    assert {"bed", "sofa", "dresser", "wardrobe", "fridge", "counter_top"} <= set(WALL_FURNITURE)
+
+
+def test_only_floor_objects_count():
+    on_it = obj("d", "dresser", [2, 0.3], [1.2, 0.5, 0.8], support="platform")
+    unknown_low = obj("b", "bed", [2, 1.05], BED, support=None, z=0.31)  # 1 cm up
+    unknown_high = obj("f", "fridge", [3.6, 0.35], [0.7, 0.7, 1.8], support=None, z=1.0)
+    assert not on_floor(on_it) and on_floor(unknown_low) and not on_floor(unknown_high)
+    assert against_wall_counts(room(on_it, unknown_low, unknown_high)) == {"bed": [1, 1]}
+
+
+def test_l_shaped_room_walls_at_the_reflex_corner():
+    # the bed's back against the wall (4, 2) -> (2, 2) from below, facing -y
+    bed = obj("bed", "bed", [3, 2 - 0.9 - 0.05], [1.6, 1.8, 0.6], yaw=SOUTH)
+    # a dresser's back against the wall (2, 2) -> (2, 4) from the west, facing -x
+    dresser = obj("dresser", "dresser", [2 - 0.25 - 0.03, 3], [1.2, 0.5, 0.8], yaw=WEST)
+    # a shelving unit in the cut-out corner's diagonal, 0.5 m from both walls
+    shelf = obj("shelf", "shelving_unit", [1.2, 1.2], [0.8, 0.3, 1.8], yaw=np.pi / 4)
+    counts = against_wall_counts(room(bed, dresser, shelf, polygon=L_SHAPE))
+    assert counts == {"bed": [1, 1], "dresser": [1, 1], "shelving_unit": [0, 1]}
+    # the same bed in the square room stands mid-room: the L's walls are what it touches
+    assert against_wall_counts(room(bed)) == {"bed": [0, 1]}
+
+
+# -- chairs at tables ------------------------------------------------------------------
+TABLE = obj("table", "dining_table", [2, 2], [1.2, 0.8, 0.75])
+CHAIR = [0.45, 0.45, 0.9]
+
+
+def test_chairs_facing_their_table_or_away():
+    scene = room(
+        TABLE,
+        obj("c_south", "chair", [2, 1.25], CHAIR, yaw=NORTH),  # faces the table
+        obj("c_east", "chair", [2.95, 2], CHAIR, yaw=WEST),  # faces the table
+        obj("c_north", "chair", [2, 2.75], CHAIR, yaw=NORTH),  # turned away
+        obj("c_far", "chair", [3.6, 3.6], CHAIR, yaw=SOUTH),  # 1.2 m off: at no table
+    )
+    assert chairs_facing_table(scene) == [2, 3]
+
+
+@pytest.mark.parametrize("degrees, facing", [(0, True), (40, True), (50, False), (180, False)])
+def test_facing_threshold_is_45_degrees(degrees, facing):
+    chair = obj("c", "chair", [2, 1.25], CHAIR, yaw=np.radians(degrees))
+    assert chairs_facing_table(room(TABLE, chair)) == [int(facing), 1]
+
+
+def test_a_chair_under_the_table_faces_its_centre_and_other_seats_do_not_count():
+    tucked = obj("c", "chair", [2, 1.7], CHAIR, yaw=NORTH)  # centre inside the footprint
+    assert chairs_facing_table(room(TABLE, tucked)) == [1, 1]
+    armchair = obj("a", "armchair", [2, 1.25], [0.8, 0.8, 0.9], yaw=SOUTH)
+    assert chairs_facing_table(room(TABLE, armchair)) == [0, 0]
+    coffee = obj("t", "coffee_table", [2, 2], [1.0, 0.6, 0.45])
+    chair = obj("c", "chair", [2, 1.25], CHAIR, yaw=NORTH)
+    assert chairs_facing_table(room(coffee, chair)) == [0, 0]
+    assert chairs_facing_table(room(chair)) == [0, 0]
+
+
+def test_the_nearest_table_is_the_one_faced():
+    desk = obj("desk", "desk", [2, 0.4], [1.2, 0.6, 0.75])
+    # 0.13 m from the desk, 0.33 m from the dining table: it is at the desk
+    chair = obj("c", "chair", [2, 1.05], CHAIR, yaw=SOUTH)
+    assert chairs_facing_table(room(TABLE, desk, chair)) == [1, 1]
+
+
+# -- sofas and TVs ---------------------------------------------------------------------
+def test_a_sofa_facing_the_tv_stand_and_one_facing_away():
+    stand = obj("tv", "tv_stand", [2, 0.25], [1.2, 0.45, 0.5])
+    facing = obj("s1", "sofa", [2, 3.5], [2.0, 0.9, 0.8], yaw=SOUTH)
+    away = obj("s2", "sofa", [0.5, 2], [2.0, 0.9, 0.8], yaw=WEST)  # faces the west wall
+    assert sofas_facing_tv(room(stand, facing, away, kind="living_room")) == [1, 2]
+    assert sofas_facing_tv(room(facing, away, kind="living_room")) == [0, 0]  # no TV
+    # a television on the east wall (no support, 1.2 m up) counts as well
+    tv = obj("tv2", "television", [3.95, 2], [1.0, 0.05, 0.6], yaw=WEST, support=None, z=1.2)
+    east = obj("s3", "sofa", [2.2, 2], [2.0, 0.9, 0.8], yaw=EAST)
+    assert sofas_facing_tv(room(tv, east, away, kind="living_room")) == [1, 2]
+
+
+# -- nightstands -----------------------------------------------------------------------
+STAND = [0.5, 0.4, 0.55]
+
+
+def test_nightstands_at_the_head_end_and_at_the_foot_end():
+    bed = obj("bed", "bed", [2, 1.05], BED)  # headboard at y = 0.05
+    head = obj("n1", "side_table", [2 - 0.8 - 0.3, 0.3], STAND)
+    foot = obj("n2", "side_table", [3.1, 1.8], STAND)
+    far = obj("n3", "side_table", [3.9, 0.3], STAND)  # 1.1 m beyond the side
+    assert nightstands_at_bed_head(room(bed, head, foot, far)) == [1, 3]
+    assert nightstands_at_bed_head(room(head, foot)) == [0, 0]  # no bed: nothing measured
+
+
+def test_nightstand_in_a_turned_bed_frame():
+    bed = OrientedBox.from_yaw([2.95, 2, 0.3], BED, WEST)  # headboard at the east wall
+    assert beside_bed_head(OrientedBox.from_yaw([3.7, 3.1, 0.275], STAND), bed)
+    assert beside_bed_head(OrientedBox.from_yaw([3.7, 0.9, 0.275], STAND), bed)
+    assert not beside_bed_head(OrientedBox.from_yaw([2.2, 3.1, 0.275], STAND), bed)  # foot
+    assert not beside_bed_head(OrientedBox.from_yaw([3.3, 2.0, 0.275], STAND), bed)  # on it
+
+
+# -- geometry helpers ------------------------------------------------------------------
+def test_footprint_gap_and_nearest_point():
+    a = footprint(OrientedBox.from_yaw([0, 0, 0.5], [2, 2, 1]))
+    b = footprint(OrientedBox.from_yaw([3, 0, 0.5], [2, 2, 1], np.pi / 4))  # diamond
+    assert footprint_gap(a, b) == pytest.approx(3 - 1 - np.sqrt(2))
+    assert footprint_gap(a, footprint(OrientedBox.from_yaw([1.5, 0.5, 0.5], [2, 2, 1]))) == 0
+    assert footprint_gap(b, a) == pytest.approx(footprint_gap(a, b))
+    np.testing.assert_allclose(nearest_point(np.array([3.0, 0.5]), a), [1, 0.5])
+    np.testing.assert_allclose(nearest_point(np.array([0.2, 0.1]), a), [0.2, 0.1])
+    box = OrientedBox.from_yaw([0, 0, 0.5], [1, 1, 1], WEST)  # faces -x
+    assert facing_angle(box, np.array([-1.0, 0.0])) == pytest.approx(0, abs=1e-9)
+    assert facing_angle(box, np.array([0.0, 1.0])) == pytest.approx(90)
+
+
+# -- pooled over scenes, and in the report ---------------------------------------------
+def bedroom(sid: str, against: bool) -> Scene:
+    y = 1.05 if against else 2.0
+    return room(
+        obj("bed", "bed", [2, y], BED),
+        obj("ns", "side_table", [2 - 0.8 - 0.3, y - 0.75], STAND),
+        sid=sid,
+    )
+
+
+def test_pooled_rates_come_from_summed_counts():
+    kitchen = room(TABLE, obj("c", "chair", [2, 1.25], CHAIR), kind="kitchen", sid="k")
+    report = layout_report([bedroom("a", True), bedroom("b", False), kitchen])
+    assert report["against_wall"] == {"rate": 0.5, "count": [1, 2], "rooms": 2}
+    assert report["against_wall/bed"] == {"rate": 0.5, "count": [1, 2], "rooms": 2}
+    assert report["chairs_facing_table"] == {"rate": 1.0, "count": [1, 1], "rooms": 1}
+    assert report["nightstands_at_bed_head"] == {"rate": 1.0, "count": [2, 2], "rooms": 2}
+    assert report["sofas_facing_tv"] == {"rate": None, "count": [0, 0], "rooms": 0}
+
+
+def write_set(folder, scenes):
+    from pair2scene.io.scene_json import write_scene
+
+    for s in scenes:
+        write_scene(s, folder / s.id / "scene.json")
+    return folder
+
+
+def test_evaluate_reports_the_layout_section_for_both_sides(tmp_path):
+    from pair2scene.evaluate import evaluate
+
+    gen = write_set(tmp_path / "gen", [bedroom("g0", False), bedroom("g1", True)])
+    ref = write_set(tmp_path / "ref", [bedroom(f"r{i}", True) for i in range(3)])
+    out = tmp_path / "report.json"
+    report = evaluate(gen, [str(ref)], out, physics=False, images=False, progress=False)
+    assert json.loads(out.read_text()) == report
+    layout = report["layout"]
+    assert layout["against_wall/bed"]["generated"] == {"rate": 0.5, "count": [1, 2], "rooms": 2}
+    assert layout["against_wall/bed"]["reference"] == {"rate": 1.0, "count": [3, 3], "rooms": 3}
+    assert layout["nightstands_at_bed_head"]["reference"]["count"] == [3, 3]
+    assert layout["sofas_facing_tv"]["generated"]["rate"] is None
+    assert layout["against_wall_other"]["side_table"]["generated"]["count"][1] == 2
+    for key in ("collision_rate", "category_kl", "pose_mmd", "fid", "details"):
+        assert key in report  # the existing keys stay
+
+    proc = run_cli("evaluate", "--scenes", str(gen), "--reference", str(ref), "--out",
+                   str(out), "--no-physics", "--no-images")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "layout" in proc.stdout and "generated" in proc.stdout
+    line = next(s for s in proc.stdout.splitlines() if "against_wall/bed" in s)
+    assert "0.50 (1/2)" in line and "1.00 (3/3)" in line
+    assert "sofas_facing_tv" not in proc.stdout  # measurable on neither side
