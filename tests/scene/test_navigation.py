@@ -205,3 +205,19 @@ def test_navigation_report_pools_rooms():
 def test_config_range_checks(field, value):
     with pytest.raises(UserError, match="--navigation." + field.replace("_", "-")):
         NavigationConfig(**{field: value})
+
+
+def test_upright_fast_path_matches_the_polygon_distance():
+    from pair2scene.scene.navigation import _Grid
+
+    grid = _Grid.of(SQUARE, 0.05)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        box = OrientedBox.from_yaw([*rng.uniform(0, 5, 2), 0.5], [*rng.uniform(0.2, 2, 2), 1],
+                                   rng.uniform(-np.pi, np.pi))  # fmt: skip
+        for within in (0.0, 0.2):
+            win_a, fast = grid.near_box(box, within)
+            win_b, slow = grid.near(footprint_polygon(box), within)
+            assert win_a == win_b
+            if win_a is not None:
+                assert np.array_equal(fast, slow)

@@ -218,6 +218,22 @@ class _Grid:
         px, py = self.centres(win)
         return win, _polygon_distance(px, py, poly) <= within + 1e-9
 
+    def near_box(self, box: OrientedBox, within: float, poly: np.ndarray | None = None):
+        """(window, bool mask) of the cells within ``within`` of a box's footprint; an
+        upright box's distances in its own frame (one pass), others' by the hull."""
+        poly = footprint_polygon(box) if poly is None else poly
+        if abs(box.rotation[2, 2]) <= 1 - 1e-9:
+            return self.near(poly, within)
+        win = self.window(poly.min(0) - within, poly.max(0) + within)
+        if win is None:
+            return None, None
+        px, py = self.centres(win)
+        ax, ay = box.rotation[:2, 0], box.rotation[:2, 1]
+        dx, dy = px - box.center[0], py - box.center[1]
+        qx = np.maximum(np.abs(dx * ax[0] + dy * ax[1]) - box.half_size[0], 0.0)
+        qy = np.maximum(np.abs(dx * ay[0] + dy * ay[1]) - box.half_size[1], 0.0)
+        return win, qx * qx + qy * qy <= (within + 1e-9) ** 2
+
     def all_centres(self) -> tuple[np.ndarray, np.ndarray]:
         return self.xs[None, :], self.ys[:, None]
 
@@ -298,6 +314,22 @@ def _face_band(grid: _Grid, box: OrientedBox, face: str, reach: float, strip: fl
     return win, band, (v > 0) & (v <= strip) & (np.abs(u) <= h_t)
 
 
+class _Faces:
+    """An object's face bands on a grid (:func:`_face_band`), computed once when asked."""
+
+    def __init__(self, grid: _Grid, box: OrientedBox, reach: float):
+        self.grid, self.box, self.reach = grid, box, reach
+        _, _, hx, hy = _face_frame(box)
+        self.longest = 2 * max(hx, hy)
+        self._bands: dict[str, tuple] = {}
+
+    def __getitem__(self, face: str) -> tuple:
+        if face not in self._bands:
+            self._bands[face] = _face_band(self.grid, self.box, face, self.reach,
+                                           AGAINST_STRIP_M)  # fmt: skip
+        return self._bands[face]
+
+
 def is_obstacle(obj: SceneObject, clearance: float = 0.05) -> bool:
     """Whether an object blocks the floor: supported by it, or its bottom below
     ``clearance``."""
@@ -333,10 +365,10 @@ class _Floor:
 
     def add(self, box: OrientedBox) -> None:
         poly = footprint_polygon(box)
-        win, mask = self.grid.near(poly, self.cfg.agent_radius_m)
+        win, mask = self.grid.near_box(box, self.cfg.agent_radius_m, poly)
         if win is not None:
             self.blocked[win] |= mask
-        win, mask = self.grid.near(poly, 0.0)
+        win, mask = self.grid.near_box(box, 0.0, poly)
         if win is not None:
             self.occupied[win] |= mask
 
@@ -356,22 +388,22 @@ class _Floor:
         keep[0] = False
         return keep[labels]
 
-    def face_reachable(self, box: OrientedBox, reach: np.ndarray, occupied: np.ndarray):
+    def faces(self, box: OrientedBox) -> _Faces:
+        return _Faces(self.grid, box, self.cfg.agent_radius_m + self.cfg.front_reach_m)
+
+    def face_reachable(self, faces: _Faces, reach: np.ndarray, occupied: np.ndarray):
         """(reachable?, only by a side or the back?): the front, else, when the box is
         small (:attr:`NavigationConfig.any_side_below_m`) or its front is against an
         object, its sides (and a small box's back)."""
-        cfg = self.cfg
-        within = cfg.agent_radius_m + cfg.front_reach_m
-        win, band, strip = _face_band(self.grid, box, "front", within, AGAINST_STRIP_M)
+        win, band, strip = faces["front"]
         if win is not None and (reach[win] & band).any():
             return True, False
-        ax, ay, hx, hy = _face_frame(box)
-        small = 2 * max(hx, hy) <= cfg.any_side_below_m
+        small = faces.longest <= self.cfg.any_side_below_m
         against = win is not None and strip.any() and occupied[win][strip].mean() >= 0.5
         if not (small or against):
             return False, False
         for face in ("left", "right", "back") if small else ("left", "right"):
-            win, band, _ = _face_band(self.grid, box, face, within, AGAINST_STRIP_M)
+            win, band, _ = faces[face]
             if win is not None and (reach[win] & band).any():
                 return True, True
         return False, False
@@ -475,7 +507,7 @@ def navigability(
     unreachable, by_side = [], []
     for o in judged:
         # (an object's own footprint never meets the strip beyond its faces)
-        ok, side = fl.face_reachable(o.box, reach, fl.occupied)
+        ok, side = fl.face_reachable(fl.faces(o.box), reach, fl.occupied)
         if not ok:
             unreachable.append(o.id)
         elif side:
@@ -555,7 +587,7 @@ def navigation_report(scenes: Iterable[Scene], config: NavigationConfig | None =
 
 @dataclass
 class _Front:
-    box: OrientedBox
+    faces: _Faces
     reachable: bool
 
 
@@ -601,8 +633,9 @@ class FloorGuard:
         fl = self._floor
         fl.add(box)
         self._reach = fl.reachable(fl.free)
-        reachable, _ = fl.face_reachable(box, self._reach, fl.occupied)
-        self._fronts.append(_Front(box, reachable))
+        faces = fl.faces(box)
+        reachable, _ = fl.face_reachable(faces, self._reach, fl.occupied)
+        self._fronts.append(_Front(faces, reachable))
 
     def blocks(self, box: OrientedBox) -> bool:
         """Whether adding ``box`` would spoil the floor (:meth:`reason` is not None)."""
@@ -623,28 +656,24 @@ class FloorGuard:
         for door in fl.doors:
             if _overlap_depth(poly, door.swing) > OVERLAP_TOL_M:
                 return "door"
-        win, grown = fl.grid.near(poly, cfg.agent_radius_m)
-        reach = self._reach
-        occupied = fl.occupied
-        owin, own = fl.grid.near(poly, 0.0)
+        win, grown = fl.grid.near_box(box, cfg.agent_radius_m, poly)
+        reach = after = self._reach
         if win is not None and (reach[win] & grown).any():
             free = fl.free
             free[win] &= ~grown
             after = fl.reachable(free)
             lost = reach & ~after
             lost[win] &= ~grown  # under the candidate itself: covered, not cut off
-            if lost.sum() * cfg.resolution_m**2 > cfg.min_cut_area_m2:
+            if np.count_nonzero(lost) * cfg.resolution_m**2 > cfg.min_cut_area_m2:
                 return "cut"
-        else:
-            after = reach
-        if owin is not None:
-            occupied = occupied.copy()
-            occupied[owin] |= own
-        ok, _ = fl.face_reachable(box, after, fl.occupied)
-        if not ok:
+        if not fl.face_reachable(fl.faces(box), after, fl.occupied)[0]:
             return "front"
         if cfg.protect_fronts and after is not reach:
+            occupied = fl.occupied.copy()
+            owin, own = fl.grid.near_box(box, 0.0, poly)
+            if owin is not None:
+                occupied[owin] |= own
             for front in self._fronts:
-                if front.reachable and not fl.face_reachable(front.box, after, occupied)[0]:
+                if front.reachable and not fl.face_reachable(front.faces, after, occupied)[0]:
                     return "front_of_other"
         return None
