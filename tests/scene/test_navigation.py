@@ -95,6 +95,11 @@ def test_objects_on_furniture_and_on_walls_are_not_obstacles():
                        support="table_0")  # fmt: skip
     nav = navigability(room(), [painting, book])
     assert nav.door_clear and nav.reachable_fraction == 1.0 and nav.n_objects == 0
+    # on a flat support at the floor: it blocks (inside the support anyway), is not judged
+    slab = obj("slab", (2.5, 2.5), (1.0, 1.0), height=0.01, category="counter_top")
+    low = SceneObject("k", "fork", OrientedBox.from_yaw([2.5, 2.5, 0.02], [0.2, 0.03, 0.02]),
+                      support="slab")  # fmt: skip
+    assert navigability(room(), [slab, low]).n_objects == 1
 
 
 def test_bed_facing_a_wall_is_not_reachable_from_its_front():

@@ -31,8 +31,8 @@ Measures (:class:`Navigability`):
 - ``swept_fraction``: the share of the uncovered floor (floor cells under no obstacle)
   the agent's body sweeps from a reachable centre (reachable cells dilated by the radius):
   the "raw floor" figure, which counts the strip along the walls a centre cannot enter;
-- ``reachable_objects``: the share of floor objects (parts left out) whose front can be
-  reached: a reachable cell in front of the front face (+y side) and within
+- ``reachable_objects``: the share of floor objects (supported by the floor, parts left
+  out) whose front can be reached: a reachable cell in front of the front face (+y side) and within
   ``agent radius + front_reach_m`` of it (rounded at the face's ends). When another
   obstacle's footprint covers at least half of the thin strip
   (:data:`AGAINST_STRIP_M`) just in front of the face, the front is against something
@@ -428,7 +428,8 @@ class Navigability:
     door_clear: bool
     """Every door's swing holds no obstacle (True with no door)."""
     n_objects: int
-    """Floor objects judged (obstacles that are not parts)."""
+    """Floor objects judged: obstacles supported by the floor (or by nothing known), not
+    parts."""
     n_doors: int
     free_area_m2: float
     reachable_area_m2: float
@@ -503,7 +504,9 @@ def navigability(
         swept = np.zeros_like(reach)
     n_open, n_floor = int(open_floor.sum()), int(fl.floor.sum())
 
-    judged = [o for o in floor_objs if o.part_of is None]
+    # judged: what stands on the floor itself (a book resting low on a flat support blocks
+    # within the support's footprint, but is not a floor object); parts go with their whole
+    judged = [o for o in floor_objs if o.support in (FLOOR, None) and o.part_of is None]
     unreachable, by_side = [], []
     for o in judged:
         # (an object's own footprint never meets the strip beyond its faces)
