@@ -226,3 +226,15 @@ def test_upright_fast_path_matches_the_polygon_distance():
             assert win_a == win_b
             if win_a is not None:
                 assert np.array_equal(fast, slow)
+
+
+def test_guard_with_a_shut_door_keeps_the_largest_part_connected():
+    guard = FloorGuard(room())
+    guard.add(obj("kept", (2.5, 0.3), (1.6, 0.6)).box)  # a kept object across the door
+    assert guard.door_shut
+    assert guard.reason(obj("desk", (4.65, 2.5), (0.7, 1.2), yaw=np.pi / 2).box) is None
+    assert guard.reason(row(2.5, 0.6, 0.0, 5.0)[2].box) is None  # one wardrobe: no cut
+    full = FloorGuard(room())
+    for o in row(2.5, 0.6, 0.0, 4.0):
+        full.add(o.box)
+    assert not full.door_shut and full.reason(row(2.5, 0.6, 0.0, 5.0)[4].box) == "cut"

@@ -32,9 +32,9 @@ Measures (:class:`Navigability`):
   the agent's body sweeps from a reachable centre (reachable cells dilated by the radius):
   the "raw floor" figure, which counts the strip along the walls a centre cannot enter;
 - ``reachable_objects``: the share of floor objects (supported by the floor, parts left
-  out) whose front can be reached: a reachable cell in front of the front face (+y side) and within
-  ``agent radius + front_reach_m`` of it (rounded at the face's ends). When another
-  obstacle's footprint covers at least half of the thin strip
+  out) whose front can be reached: a reachable cell in front of the front face (+y side)
+  and within ``agent radius + front_reach_m`` of it (rounded at the face's ends). When
+  another obstacle's footprint covers at least half of the thin strip
   (:data:`AGAINST_STRIP_M`) just in front of the face, the front is against something
   (a chair pushed under its table or desk, a stool under a counter): then either side
   face counts as well. A wall in front does not (a bed facing a wall 0.1 m away cannot be
@@ -46,11 +46,15 @@ Measures (:class:`Navigability`):
   overlapping it by more than :data:`OVERLAP_TOL_M`).
 
 :class:`FloorGuard` is the same test kept up to date while a scene is placed, for the
-placer: ``add`` an accepted floor object, ask ``blocks`` of a candidate.
+placer: ``add`` an accepted floor object, ask ``blocks`` of a candidate. Its cost per
+candidate is one 4-connected labelling of the grid (``scipy.ndimage.label``, a project
+dependency), and only when the candidate's grown footprint touches reachable floor:
+0.3 ms median on a 5 x 5 m room at 0.05 m, about 0.6 ms on the generated 10-68 m2 rooms.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
@@ -376,12 +380,14 @@ class _Floor:
     def free(self) -> np.ndarray:
         return self.static_free & ~self.blocked
 
-    def reachable(self, free: np.ndarray) -> np.ndarray:
+    def reachable(self, free: np.ndarray, from_doors: bool = True) -> np.ndarray:
+        """The free cells 4-connected to a door's start cells (with no door, or
+        ``from_doors`` False: the largest free component)."""
         labels, n = ndimage.label(free, _CROSS)
         if n == 0:
             return np.zeros_like(free)
         keep = np.zeros(n + 1, bool)
-        if self.doors:
+        if self.doors and from_doors:
             keep[labels[self.start & free]] = True
         else:
             keep[int(np.argmax(np.bincount(labels.ravel())[1:])) + 1] = True
@@ -472,9 +478,7 @@ def _config(config, agent_radius, resolution) -> NavigationConfig:
     if resolution is not None:
         changes["resolution_m"] = float(resolution)
     if changes:
-        from dataclasses import replace
-
-        cfg = replace(cfg, **changes)
+        cfg = dataclasses.replace(cfg, **changes)
     return cfg
 
 
@@ -607,7 +611,18 @@ class FloorGuard:
     def __post_init__(self) -> None:
         self._floor = _Floor(self.room, self.config)
         self._fronts: list[_Front] = []
-        self._reach = self._floor.reachable(self._floor.free)
+        self.door_shut = False
+        """True when the doors let no agent in (too narrow a way in, or a kept object in
+        it): the guard then keeps the largest free part of the floor connected instead,
+        rather than refusing every floor candidate."""
+        self._reach = self._reachable(self._floor.free)
+
+    def _reachable(self, free: np.ndarray) -> np.ndarray:
+        reach = self._floor.reachable(free, from_doors=not self.door_shut)
+        if not reach.any() and self._floor.doors and not self.door_shut:
+            self.door_shut = True
+            reach = self._floor.reachable(free, from_doors=False)
+        return reach
 
     @classmethod
     def for_room(
@@ -622,9 +637,7 @@ class FloorGuard:
         ``door_clearance`` (the swing's depth, m) overriding them when given."""
         cfg = _config(config, agent_radius, resolution)
         if door_clearance is not None:
-            from dataclasses import replace
-
-            cfg = replace(cfg, door_swing_m=float(door_clearance))
+            cfg = dataclasses.replace(cfg, door_swing_m=float(door_clearance))
         return cls(room, cfg)
 
     @property
@@ -635,7 +648,7 @@ class FloorGuard:
         """An accepted floor object becomes an obstacle (only its footprint is rastered)."""
         fl = self._floor
         fl.add(box)
-        self._reach = fl.reachable(fl.free)
+        self._reach = self._reachable(fl.free)
         faces = fl.faces(box)
         reachable, _ = fl.face_reachable(faces, self._reach, fl.occupied)
         self._fronts.append(_Front(faces, reachable))
@@ -664,7 +677,7 @@ class FloorGuard:
         if win is not None and (reach[win] & grown).any():
             free = fl.free
             free[win] &= ~grown
-            after = fl.reachable(free)
+            after = fl.reachable(free, from_doors=not self.door_shut)
             lost = reach & ~after
             lost[win] &= ~grown  # under the candidate itself: covered, not cut off
             if np.count_nonzero(lost) * cfg.resolution_m**2 > cfg.min_cut_area_m2:
