@@ -253,9 +253,41 @@ def _layout(reference: Sequence[Scene], generated: Sequence[Scene]) -> dict:
     return layout_section(reference, generated)
 
 
+def _navigation(reference: Sequence[Scene], generated: Sequence[Scene]) -> dict:
+    """Navigability (:mod:`pair2scene.scene.navigation`, agent radius 0.2 m): the mean
+    reachable share of the free floor, rooms reaching 0.97 of it, floor objects whose front
+    is reachable, doors whose swing is clear; and the pooled details of both sides."""
+    from pair2scene.scene.navigation import navigation_report
+
+    sides = {"generated": navigation_report(generated), "reference": navigation_report(reference)}
+
+    def stat(pooled: dict, rate: str, n: str | None, d: str) -> dict:
+        rooms = pooled.get("rooms", 0)
+        value = pooled.get(rate) if rooms else None
+        total = pooled.get(d, 0) or 0
+        count = None
+        if n is not None and value is not None:
+            count = [round(value * total) if n == "share" else total - pooled[n], total]
+        return {"rate": value, "count": count, "rooms": rooms}
+
+    rows = {
+        "reachable_free_floor": ("mean_reachable_fraction", None, "rooms"),
+        "rooms_reachable_0.97": ("share_rooms_reachable", "share", "rooms"),
+        "objects_reachable": ("share_objects_reachable", "unreachable_objects", "floor_objects"),
+        "doors_clear": ("share_doors_clear", "share", "rooms_with_doors"),
+    }
+    out: dict = {
+        name: {side: stat(sides[side]["all"], *spec) for side in ("generated", "reference")}
+        for name, spec in rows.items()
+    }
+    out["pooled"] = {f"{side} rooms": pooled for side, pooled in sides.items()}  # not a row
+    return out
+
+
 Section = Callable[[Sequence[Scene], Sequence[Scene]], dict]
 SECTIONS: dict[str, Section] = {
     "layout": _layout,
+    "navigation": _navigation,
 }
 """The report's sections of side-by-side measures: name -> function(reference, generated)
 giving ``{measure: {"generated": stat, "reference": stat}}`` (other entries are details

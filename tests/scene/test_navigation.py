@@ -208,7 +208,7 @@ def test_navigation_report_pools_rooms():
      ("front_reach_m", float("nan")), ("door_swing_m", -0.1)],
 )  # fmt: skip
 def test_config_range_checks(field, value):
-    with pytest.raises(UserError, match="--navigation." + field.replace("_", "-")):
+    with pytest.raises(UserError, match="--assembly.navigation." + field.replace("_", "-")):
         NavigationConfig(**{field: value})
 
 

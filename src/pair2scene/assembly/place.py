@@ -65,6 +65,7 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
+from pair2scene.scene.navigation import FloorGuard, NavigationConfig
 from pair2scene.scene.walls import walls_of
 
 MAX_CANDIDATES = 100_000
@@ -143,6 +144,15 @@ class AssemblyConfig:
     took fit bedrooms' resamples per object from 0.21 to 0.16 (seeds 0-39) and from 0.32
     to 0.20 (seeds 100-139). False (``--ablation no-confine``) is plain rejection."""
     tolerances: Tolerances = TOLERANCES
+    navigable: bool = True
+    """Keep the room navigable (:class:`~pair2scene.scene.navigation.FloorGuard`): a floor
+    candidate that cuts reachable floor off from the door, leaves its own front or an
+    earlier object's front out of reach, or stands in a door's swing is rejected
+    (``blocks_path``). Measured on 60 generated rooms (seeds 0-19 per type): the mean
+    reachable share of the free floor went from 0.926 to 0.999 and rooms at 0.97 or more
+    from 0.80 to 1.00, at 0.11 -> 0.30 resamples per object in bedrooms."""
+    navigation: NavigationConfig = NavigationConfig()
+    """The agent (radius 0.2 m by default) and the grid the guard keeps the floor for."""
     reject: bool = True
     """Ablation (``--ablation no-rejection``): False takes each object's first candidate
     (after the rest step when ``gravity``; left where drawn when nothing carries it) and
@@ -200,7 +210,8 @@ class AssemblyStats:
     neighbour) rather than taken as drawn."""
     rejections: dict[str, int] = field(default_factory=dict)
     """Rejected candidates by reason: unsupported, outside, wall (on a support, through a
-    wall), ceiling, door, collision."""
+    wall), ceiling, door, collision, blocks_path (would cut the free floor or a front off
+    the door)."""
     outside_mass: list[float] = field(default_factory=list)
     """Per floor object: the model's probability of a candidate out of the room's reach
     (:func:`floor_region`), where it no longer draws (``AssemblyConfig.confine``)."""
@@ -371,6 +382,13 @@ class Placer:
             world.add(obj.id, shape)
             placed[obj.id] = _Placed(obj.box, asset)
             objects.append(obj)
+        guard = None
+        if cfg.navigable and cfg.reject:
+            guard = FloorGuard.for_room(room, door_clearance=cfg.door_clearance_m,
+                                        config=cfg.navigation)  # fmt: skip
+            for obj in keep or []:
+                if obj.support == FLOOR or obj.box.bottom < cfg.navigation.clearance_m:
+                    guard.add(obj.box)
         bounds = room.bounds
         door_zones = door_boxes(room, cfg.door_clearance_m, room.height)
         doors = (door_zones, _stack(door_zones))
@@ -434,7 +452,7 @@ class Placer:
             ids = list(placed)  # fixed while this object's candidates are tried
             others = _stack([placed[i].box for i in ids])
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
-                               contact_rectangle(asset))  # fmt: skip
+                               contact_rectangle(asset), guard)  # fmt: skip
             accepted = None
             own: dict[str, int] = {}
             tried = 0
@@ -480,6 +498,8 @@ class Placer:
             shape.set_pose(box.rotation, box.center)
             world.add(node.id, shape)
             placed[node.id] = _Placed(box, asset)
+            if guard is not None and item.support == FLOOR:
+                guard.add(box)
             stats.resamples.append(index)
             objects.append(
                 SceneObject(
@@ -609,6 +629,8 @@ class Placer:
             colliding = ctx.world.colliding(ctx.shape, near)
             if colliding:
                 return "collision", colliding
+        if ctx.support == FLOOR and ctx.guard is not None and ctx.guard.blocks(box):
+            return "blocks_path", []  # last: only candidates that passed the rest
         return None, []
 
 
@@ -644,6 +666,8 @@ class _Context:
     shape: Shape
     world: MeshWorld
     contact: np.ndarray
+    guard: FloorGuard | None = None
+    """Keeps the floor navigable (None: not asked)."""
 
 
 def surface_fit(support: Asset, margin: float = 0.9):

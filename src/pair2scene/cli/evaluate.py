@@ -59,5 +59,7 @@ def _stat(stat: dict | None) -> str:
     """``0.85 (17/20)``: the rate and its counts; ``-`` when not measurable."""
     if not stat or stat.get("rate") is None:
         return "-"
+    if stat.get("count") is None:  # a mean, not a count
+        return f"{stat['rate']:.3f} ({stat.get('rooms', 0)} rooms)"
     n, d = stat["count"]
     return f"{stat['rate']:.2f} ({n}/{d})"

@@ -110,7 +110,7 @@ class NavigationConfig:
 
     def __post_init__(self) -> None:
         def flag(name: str) -> str:
-            return "--navigation." + name.replace("_", "-")
+            return "--assembly.navigation." + name.replace("_", "-")
 
         positive = {"agent_radius_m": self.agent_radius_m, "resolution_m": self.resolution_m}
         non_negative = {"clearance_m": self.clearance_m, "front_reach_m": self.front_reach_m,
