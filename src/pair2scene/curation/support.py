@@ -20,10 +20,12 @@ geometry, never its annotations. When no surface matches, an object inside a
 candidate's box is still carried by it (a spoon in a drawer), below any real surface.
 
 The highest qualifying height wins: the nearest surface below. Objects hanging from a
-towel rail or a toilet-paper holder are carried by it. Parts (drawers, shelves,
-cabinet doors) belong to the smallest piece of furniture containing them, and anything
-resting on a part is supported by the part's owner. Wall objects and others that
-nothing carries get ``support = None``.
+towel rail or a toilet-paper holder are carried by it (the rails themselves are mounted
+on walls). Parts (drawers, shelves, cabinet doors) belong to the smallest piece of
+furniture containing them, objects an adapter built into another (``part_of``: a faucet
+of a sink, pair2scene.data.fixtures) to that one, and anything resting on a part is
+supported by the part's owner. Wall objects, rails and others that nothing carries get
+``support = None``.
 
 :func:`support_scores` compares the result with the sources' own annotations
 (AI2-THOR ``parentReceptacles``, ProcTHOR child nesting), resolved the way the
@@ -79,7 +81,8 @@ SUPPORTER_CATEGORIES: frozenset[str] = frozenset(
 """Categories that can be a support anchor (besides the floor)."""
 
 HANGER_CATEGORIES: frozenset[str] = frozenset({"towel_holder", "toilet_paper_hanger"})
-"""Supporters that carry things hanging from them rather than resting on them."""
+"""Supporters that carry things hanging from them rather than resting on them. They are
+mounted on walls: nothing supports them (``support = None``)."""
 
 BACKED_CATEGORIES: frozenset[str] = frozenset({"chair", "armchair", "sofa", "bed", "toilet"})
 """Supporters whose box top is a backrest, headboard or cistern, not a place to put
@@ -404,6 +407,9 @@ def find_supports(
     for i, o in enumerate(objects):
         if i in owners:
             out[o.id] = objects[owners[i]].id
+            continue
+        if is_hanger[i]:
+            out[o.id] = None  # mounted on a wall, whatever stands below it
             continue
         j = None
         if has_fall[i] and best_h[i] <= bottom[fall[i]] + cfg.penetration_m:
