@@ -429,7 +429,7 @@ def _ranges(
             box,
             group[0].asset,
             support=FLOOR,
-            source_label="StoveBurner",
+            source_label=None,  # made here, not in the source (so never folded again)
             source_support=FLOOR,
         )
         made.append(stove)
