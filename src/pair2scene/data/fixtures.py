@@ -257,7 +257,8 @@ def counter_runs(
         for k, (lo, hi) in enumerate(runs):
             rid = slab.id if k == 0 else f"{slab.id}_run{k}"
             box = _run_box(sb, lo, hi, room_center)
-            made.append(replace(slab, id=rid, box=box, support=FLOOR, source_support=FLOOR))
+            # support: it stands on the floor; source_support stays what the source said
+            made.append(replace(slab, id=rid, box=box, support=FLOOR))
         report.warnings["counter slab made a cabinet run from the floor"] += len(made)
         redirect[slab.id] = made
 
@@ -369,7 +370,7 @@ def fold_fixture_parts(
         else:
             dropped.add(o.id)
             report.warnings[f"{o.source_label}: no fixture to belong to (dropped)"] += 1
-    objects, ranges = _ranges(objects, dropped, owner, room_center, report)
+    objects, _ = _ranges(objects, dropped, owner, room_center, report)
     out = []
     for o in objects:
         if o.id in dropped:
@@ -430,7 +431,6 @@ def _ranges(
             group[0].asset,
             support=FLOOR,
             source_label=None,  # made here, not in the source (so never folded again)
-            source_support=FLOOR,
         )
         made.append(stove)
         for o in group:
