@@ -387,3 +387,15 @@ def test_shelf_board_and_lip():
     assert span(lip, 1)[1] == pytest.approx(0.125)
     assert span(lip, 2)[1] > span(board, 2)[1] + 0.01
     assert upward_faces(lipped, span(board, 2)[1] + 0.03)[1] > 0.5
+
+
+def test_counter_run_reaches_counter_height_with_its_top_a_support_surface():
+    from pair2scene.assets.surfaces import surfaces_of
+
+    size = np.array([1.6, 0.6, 0.9])
+    for style in range(3):
+        asset = generate("counter_top", size, rng=0, style=style)
+        assert asset.size[2] >= 0.5
+        assert asset.size[2] == pytest.approx(0.9, abs=0.01)
+        tops = [s.z + asset.size[2] / 2 for s in surfaces_of(asset)]
+        assert max(tops) == pytest.approx(0.9, abs=0.02)

@@ -20,10 +20,12 @@ geometry, never its annotations. When no surface matches, an object inside a
 candidate's box is still carried by it (a spoon in a drawer), below any real surface.
 
 The highest qualifying height wins: the nearest surface below. Objects hanging from a
-towel rail or a toilet-paper holder are carried by it. Parts (drawers, shelves,
-cabinet doors) belong to the smallest piece of furniture containing them, and anything
-resting on a part is supported by the part's owner. Wall objects and others that
-nothing carries get ``support = None``.
+towel rail or a toilet-paper holder are carried by it (the rails themselves are mounted
+on walls). Parts (drawers, shelves, cabinet doors) belong to the smallest piece of
+furniture containing them, objects an adapter built into another (``part_of``: a faucet
+of a sink, pair2scene.data.fixtures) to that one, and anything resting on a part is
+supported by the part's owner. Wall objects, rails and others that nothing carries get
+``support = None``.
 
 :func:`support_scores` compares the result with the sources' own annotations
 (AI2-THOR ``parentReceptacles``, ProcTHOR child nesting), resolved the way the
@@ -79,7 +81,8 @@ SUPPORTER_CATEGORIES: frozenset[str] = frozenset(
 """Categories that can be a support anchor (besides the floor)."""
 
 HANGER_CATEGORIES: frozenset[str] = frozenset({"towel_holder", "toilet_paper_hanger"})
-"""Supporters that carry things hanging from them rather than resting on them."""
+"""Supporters that carry things hanging from them rather than resting on them. They are
+mounted on walls: nothing supports them (``support = None``)."""
 
 BACKED_CATEGORIES: frozenset[str] = frozenset({"chair", "armchair", "sofa", "bed", "toilet"})
 """Supporters whose box top is a backrest, headboard or cistern, not a place to put
@@ -209,6 +212,31 @@ def _part_owners(
     return owners
 
 
+def _resolve_owners(owners: dict[int, int]) -> dict[int, int]:
+    """Owner chains followed to their end (a basin inside a faucet that is part of a
+    sink belongs to the sink); a chain that loops leaves its parts unowned."""
+    out = {}
+    for i in owners:
+        seen, k = {i}, owners[i]
+        while k in owners and k not in seen:
+            seen.add(k)
+            k = owners[k]
+        if k not in seen:
+            out[i] = k
+    return out
+
+
+def _built_in_owners(objects: list[SceneObject]) -> dict[int, int]:
+    """Index -> owner index for objects the adapters built into another (``part_of``:
+    a faucet of a sink, a burner of a counter, a cabinet door of a counter run)."""
+    index = {o.id: i for i, o in enumerate(objects)}
+    return {
+        i: index[o.part_of]
+        for i, o in enumerate(objects)
+        if o.part_of is not None and o.part_of in index and o.part_of != o.id
+    }
+
+
 def _surfaces(
     obj: SceneObject, seed: int, heights: tuple[float, ...] | None, library
 ) -> list[tuple[float, object]]:
@@ -263,6 +291,7 @@ def find_supports(
     is_backed = np.array([k in BACKED_CATEGORIES for k in cats])
     is_inset = np.array([k in INSET_CATEGORIES for k in cats])
     owners = _part_owners(objects, c, h, r, cfg.part_host_margin_m)
+    owners = _resolve_owners({**owners, **_built_in_owners(objects)})
     not_self = ~np.eye(n, dtype=bool)
 
     # -- horizontal containment ------------------------------------------------------
@@ -379,6 +408,9 @@ def find_supports(
         if i in owners:
             out[o.id] = objects[owners[i]].id
             continue
+        if is_hanger[i]:
+            out[o.id] = None  # mounted on a wall, whatever stands below it
+            continue
         j = None
         if has_fall[i] and best_h[i] <= bottom[fall[i]] + cfg.penetration_m:
             j = int(fall[i])
@@ -412,8 +444,10 @@ def support_truth(scene: Scene) -> dict[str, str]:
     from pair2scene.data.support import resolve_part_hosts
 
     resolved = resolve_part_hosts(scene.objects)
+    ids = {o.id for o in scene.objects}
     return {
-        a.id: b.support
+        # an object the adapter built into another (a faucet of a sink) belongs to it
+        a.id: a.part_of if a.super is not SuperCategory.PART and a.part_of in ids else b.support
         for a, b in zip(scene.objects, resolved, strict=True)
         if a.source_support is not None and b.support is not None
     }

@@ -116,8 +116,10 @@ def scene_tuples(
     """One tuple per placed object of ``scene``, in the scene's object order.
 
     Objects without a support, structure and parts are not dependents (see
-    SKIPPED_SUPER_CATEGORIES). exclude_floor_only : leave out ``floor`` tuples
-    (floor support, no functional anchor), as the method does for noisy sources.
+    SKIPPED_SUPER_CATEGORIES), nor objects built into another (``part_of`` naming an
+    object of the scene: a faucet of a sink, pair2scene.data.fixtures).
+    exclude_floor_only : leave out ``floor`` tuples (floor support, no functional
+    anchor), as the method does for noisy sources.
     source : the name stored in each tuple (default ``scene.source``).
     skipped : when given, counts why objects gave no tuple.
     """
@@ -129,6 +131,10 @@ def scene_tuples(
     for obj in scene.objects:
         if obj.super in SKIPPED_SUPER_CATEGORIES:
             skipped[obj.super.value] += 1
+            continue
+        if obj.part_of is not None and obj.part_of in by_id:
+            # built into another object (a faucet of a sink, a burner of a counter)
+            skipped["part of another object"] += 1
             continue
         if obj.support is None:
             skipped["no support"] += 1

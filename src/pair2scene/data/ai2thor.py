@@ -26,6 +26,7 @@ import numpy as np
 from pair2scene.categories import AI2THOR_LABELS, LabelMapper, RoomType, is_structure
 from pair2scene.data import unity
 from pair2scene.data.base import Corpus, SourceReport
+from pair2scene.data.fixtures import build_kitchens_and_bathrooms
 from pair2scene.data.orientation import front_offset_deg, turn_front
 from pair2scene.data.support import (
     floor_by_height,
@@ -248,6 +249,7 @@ def convert_room(
     objects = support_from_receptacles(objects, receptacles, source_ids, report)
     objects = resolve_part_hosts(objects)
     objects = floor_by_height(objects, report)
+    objects = build_kitchens_and_bathrooms(objects, polygon.mean(0), report)
     height = max(DEFAULT_HEIGHT_M, round(top + CEILING_CLEARANCE_M, 2))
     room = Room(room_type.value, polygon, height, (), tuple(windows))
     return Scene(scene_id, room, objects, source="ai2thor", split=split)

@@ -29,6 +29,7 @@ from pair2scene.categories import (
 )
 from pair2scene.data import unity
 from pair2scene.data.base import SPLITS, Corpus, SourceReport, stable_fraction
+from pair2scene.data.fixtures import build_kitchens_and_bathrooms
 from pair2scene.data.orientation import front_offset_deg, turn_front
 from pair2scene.data.support import ON_FLOOR_M
 from pair2scene.errors import UserError
@@ -202,6 +203,7 @@ def convert_house(
                 if sup is None:
                     report.warnings["support parent skipped or in another room"] += 1
             resolved.append(replace(o, source_support=sup, support=sup))
+        resolved = build_kitchens_and_bathrooms(resolved, polys[k].mean(0), report)
         scenes.append(Scene(f"{house_id}/{rid}", room, resolved, source="procthor", split=split))
     return scenes
 
