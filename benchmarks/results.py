@@ -44,8 +44,15 @@ def methods(pairs: Path, variants: Path) -> dict[str, tuple[list[str], str]]:
     out = {
         "ours (fit)": ([], "the method, bundled model, `--mode fit`"),
         "ours (beyond)": (["--mode", "beyond"], "the method, `--mode beyond` (80 objects)"),
-        "random": (["--model", "random"], "uniform positions and yaws, same rejection and gravity"),
-        "gaussian": (["--model", f"gaussian:{pairs}"], "per-pair Gaussian mixtures (issue 5)"),
+        "random": (
+            ["--model", "random"],
+            "uniform positions and yaws (the null model: no anchor frames), same rejection "
+            "and gravity",
+        ),
+        "gaussian": (
+            ["--model", f"gaussian:{pairs}"],
+            "per-pair Gaussian mixtures (issue 5), in the learned model's anchor frames",
+        ),
     }
     for v in VARIANTS:
         out[v] = (["--model", str(variants / v)], f"model variant `{v}`")

@@ -136,6 +136,54 @@ def test_gaussian_placement_maps_into_the_support_frame():
     np.testing.assert_allclose(floor[:, :3].mean(0), [2.5 + 1.25, 2.0, 1.4 + 1.82], atol=0.02)
 
 
+def test_gaussian_placement_draws_in_the_learned_models_frame(tmp_path):
+    """A sofa to stand against a wall is drawn in that wall's frame (as the learned model
+    draws it): against a wall of another room, facing as the training sofas do; without
+    anchor frames the query's wall changes nothing. Random placement ignores it."""
+    from pair2scene.curation.dataset import load_pairs
+    from pair2scene.model.baseline import FRAME_FUNCTIONAL, FRAME_SUPPORT, FRAME_WALL
+    from pair2scene.scene.walls import Wall
+
+    pairs = load_pairs(write_synthetic_pairs(tmp_path / "pairs"))
+    framed = GaussianPlacement(GaussianBaseline.fit(pairs, "train"))
+    plain = GaussianPlacement(
+        GaussianBaseline.fit(pairs, "train", GaussianConfig(anchor_frames=False))
+    )
+    room = OrientedBox.from_yaw([3.0, 2.5, 1.4], [6.0, 5.0, 2.8])
+    wall = Wall(3, np.array([0.0, 5.0]), np.array([0.0, 0.0])).frame(2.8)  # x = 0, inward +x
+    size = [2.0, 0.9, 0.8]
+    query = PlacementQuery("sofa", size, Anchor.floor(room), wall=wall)
+    assert framed.frame(query) == (FRAME_WALL, wall)
+    assert plain.frame(query) == (FRAME_SUPPORT, room)
+    out = framed.sample(query, 200, 1.0, torch.Generator().manual_seed(0))
+    # training sofas: back 0.45 m from their wall's line, front (+y) towards it
+    assert np.median(np.abs(out[:, 0] - 0.45)) < 0.05
+    np.testing.assert_allclose(np.median(out[:, 6:8], axis=0), [0.0, 1.0], atol=0.05)
+    np.testing.assert_allclose(np.median(out[:, 9:11], axis=0), [-1.0, 0.0], atol=0.05)
+    np.testing.assert_allclose(out[:, 3:6], np.broadcast_to(size, (200, 3)))
+    assert np.median(out[:, 2]) == pytest.approx(0.4, abs=0.03)  # on the floor
+    # without anchor frames: the room's frame, the wall is not looked at
+    gen = torch.Generator().manual_seed(0)
+    no_wall = plain.sample(PlacementQuery("sofa", size, Anchor.floor(room)), 200, 1.0, gen)
+    gen = torch.Generator().manual_seed(0)
+    assert (plain.sample(query, 200, 1.0, gen) == no_wall).all()
+    assert np.median(no_wall[:, 0]) > 1.0
+    # a chair at a desk is drawn in the desk's footprint frame
+    desk = OrientedBox.from_yaw([3.0, 2.0, 0.375], [1.2, 0.6, 0.75], 0.3)
+    chair = PlacementQuery("chair", [0.5, 0.5, 0.9], Anchor.floor(room), Anchor("desk", desk))
+    kind, frame = framed.frame(chair)
+    assert kind == FRAME_FUNCTIONAL and frame.size[2] == pytest.approx(2.8)
+    np.testing.assert_allclose(frame.center[:2], [3.0, 2.0])
+    near = framed.sample(chair, 100, 1.0, torch.Generator().manual_seed(0))
+    assert np.median(np.linalg.norm(near[:, :2] - [3.0, 2.0], axis=1)) < 1.0
+    # the null model stays uniform whatever anchors the query names
+    rand = RandomPlacement()
+    gen = torch.Generator().manual_seed(0)
+    want = rand.sample(PlacementQuery("sofa", size, Anchor.floor(room)), 50, 1.0, gen)
+    gen = torch.Generator().manual_seed(0)
+    assert (rand.sample(query, 50, 1.0, gen) == want).all()
+
+
 def test_random_placement_stays_in_the_room_and_over_the_support():
     model = RandomPlacement()
     bounds = OrientedBox.from_yaw([2.5, 2.0, 1.4], [5.0, 4.0, 2.8])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -235,3 +236,149 @@ def test_config_is_checked():
     with pytest.raises(ValueError, match="smoothing"):
         GaussianConfig(smoothing=1.0)
     assert math.isclose(GaussianConfig().reg, 2e-6)
+
+
+# -- anchor frames (issue 18) -------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def pairs(tmp_path_factory):
+    from pair2scene.curation.dataset import load_pairs
+    from synthetic_pairs import write_synthetic_pairs
+
+    return load_pairs(write_synthetic_pairs(tmp_path_factory.mktemp("pairs")))
+
+
+def _affine(fn, x: np.ndarray, h: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+    """(J, fn(x)) of fn at x, J by central differences."""
+    jac = np.stack([(fn(x + h * e) - fn(x - h * e)) / (2 * h) for e in np.eye(len(x))], 1)
+    return jac, fn(x)
+
+
+def test_anchor_frames_score_densities_of_the_stored_vector(pairs):
+    """Wall and functional frames: the boxes in the frame, the Jacobians against finite
+    differences, and the score against the mixture pushed back to the stored vector."""
+    from pair2scene.model.baseline import (
+        FRAME_FUNCTIONAL,
+        FRAME_SUPPORT,
+        FRAME_WALL,
+        canonical_to_frame,
+        framed_tuples,
+        tuple_frames,
+    )
+    from pair2scene.scene.geometry import OrientedBox
+
+    kinds, frames = tuple_frames(pairs)
+    assert {FRAME_WALL, FRAME_FUNCTIONAL, FRAME_SUPPORT} <= set(kinds.tolist())
+    framed = framed_tuples(pairs, anchor_frames=True)
+    config = GaussianConfig(smoothing=0.0, log_size=False, covariance="full", min_count=5)
+    model = GaussianBaseline.fit(pairs, "train", config)
+    lp, lps = model.log_prob(pairs), model.log_prob_size(pairs)
+    for kind in (FRAME_WALL, FRAME_FUNCTIONAL):
+        for i in np.flatnonzero(kinds == kind)[:3]:
+            sup, frame = pairs.support.box[i : i + 1], frames[i : i + 1]
+            xi = pairs.canonical[i].astype(np.float64)
+
+            def fn(v, sup=sup, frame=frame):
+                return canonical_to_frame(v[None], sup, frame)[0][0]
+
+            jac, y = _affine(fn, xi)
+            np.testing.assert_allclose(y, framed.x[i])
+            assert framed.log_jacobian[i] == pytest.approx(np.linalg.slogdet(jac)[1], abs=1e-6)
+            size_jac = jac[3:6, 3:6]
+            assert framed.size_log_jacobian[i] == pytest.approx(
+                np.linalg.slogdet(size_jac)[1], abs=1e-6
+            )
+            # the same box as the dependent's world box seen from the frame
+            dep = OrientedBox.from_vector(pairs.dependent.box[i])
+            want = dep.in_frame_of(OrientedBox.from_vector(frames[i])).to_vector()
+            np.testing.assert_allclose(y, want, atol=1e-4)
+            # the fitted mixture in the frame, pushed back through x = J^-1 (y - b):
+            # its density at the stored vector is what log_prob returns
+            mix = model.mixture_for(framed.dependent[i], framed.support[i], framed.functional[i])
+            inv = np.linalg.inv(jac)
+            b = y - jac @ xi
+            back = GaussianMixture(
+                mix.weights,
+                (mix.means - b) @ inv.T,
+                np.einsum("ij,kjl,ml->kim", inv, mix.covariances, inv),
+            )
+            assert lp[i] == pytest.approx(float(back.log_prob(xi[None])[0]), abs=1e-6)
+            size_back = back.marginal([3, 4, 5])
+            assert lps[i] == pytest.approx(float(size_back.log_prob(xi[None, 3:6])[0]), abs=1e-6)
+    # the wall-framed and the room-framed sofa never share a mixture
+    assert ("floor@wall", "sofa") in model.mixtures["sup_dep"]
+    assert ("@wall",) in model.mixtures["global"] and () in model.mixtures["global"]
+    framed_supports = {k[0] for k in model.mixtures["sup_dep"] if "@" in k[0]}
+    assert framed_supports == {"floor@wall", "floor@functional"}
+
+
+def test_anchor_frames_are_the_learned_models(pairs):
+    """The torch-free frame choice here is the learned model's."""
+    pytest.importorskip("torch")
+    from pair2scene.model.baseline import framed_tuples, tuple_frames
+    from pair2scene.model.features import _tuple_frames
+
+    kinds, boxes = tuple_frames(pairs)
+    want_kinds, want_boxes = _tuple_frames(pairs)
+    np.testing.assert_array_equal(kinds, want_kinds)
+    np.testing.assert_allclose(boxes, want_boxes)
+    assert (framed_tuples(pairs, True).kinds == kinds).all()
+
+
+def test_without_anchor_frames_nothing_changes(pairs):
+    from pair2scene.model.baseline import dataset_keys
+    from pair2scene.model.scoring import split_of
+
+    val = split_of(pairs, "val")
+    model = GaussianBaseline.fit(pairs, "train", GaussianConfig(anchor_frames=False))
+    # the numbers of the baseline before anchor frames existed (commit 8dbef10)
+    assert model.log_prob(val).sum() == pytest.approx(1365.5904949263306, rel=1e-7)
+    assert model.log_prob_size(val).sum() == pytest.approx(362.95983983488395, rel=1e-7)
+    # ... and its path: stored canonical vectors under category keys
+    train = pairs.split == "train"
+    keys = [np.array(k, dtype=object)[train].tolist() for k in dataset_keys(pairs)]
+    old = GaussianBaseline.fit_arrays(pairs.canonical[train], *keys, model.config)
+    np.testing.assert_array_equal(
+        model.log_prob(val), old.log_prob_arrays(val.canonical, *dataset_keys(val))
+    )
+    # with anchor frames the support-framed mugs keep their keys and their boxes
+    framed = GaussianBaseline.fit(pairs, "train")
+    assert framed.config.anchor_frames and GaussianConfig().anchor_frames
+    f = framed.framed(val)
+    mugs = np.array(f.dependent) == "mug"
+    np.testing.assert_array_equal(f.x[mugs], val.canonical[mugs].astype(np.float64))
+    assert (f.log_jacobian[mugs] == 0).all()
+
+
+def test_baselines_saved_before_anchor_frames_load_without_them(tmp_path, pairs):
+    model = GaussianBaseline.fit(pairs, "train")
+    path = tmp_path / "b.json"
+    model.save(path)
+    loaded = GaussianBaseline.load(path)
+    assert loaded.config.anchor_frames
+    np.testing.assert_array_equal(loaded.log_prob(pairs), model.log_prob(pairs))
+    old = GaussianBaseline.fit(pairs, "train", GaussianConfig(anchor_frames=False)).to_dict()
+    del old["config"]["anchor_frames"]
+    path.write_text(json.dumps(old))
+    assert not GaussianBaseline.load(path).config.anchor_frames
+
+
+def test_a_frame_never_seen_in_training_is_the_supports(pairs):
+    """Fitted on data without walls (3D-Pairs v1), tuples and queries against a wall are
+    modelled in their support's frame, not drawn from mixtures of another frame."""
+    import dataclasses
+
+    from pair2scene.model.baseline import FRAME_FUNCTIONAL, FRAME_SUPPORT, FRAME_WALL
+    from pair2scene.scene.geometry import OrientedBox
+
+    no_walls = dataclasses.replace(pairs, wall_index=np.full(len(pairs), -1, np.int32))
+    model = GaussianBaseline.fit(no_walls, "train")
+    assert model.frames == {FRAME_SUPPORT, FRAME_FUNCTIONAL}
+    assert GaussianBaseline.fit(pairs, "train").frames == {0, 1, 2}
+    assert FRAME_WALL not in set(model.framed(pairs).kinds.tolist())
+    assert np.isfinite(model.log_prob(pairs)).all()
+    i = int(np.flatnonzero(pairs.wall_index >= 0)[0])
+    room = OrientedBox.from_vector(pairs.support.box[i])
+    wall = OrientedBox.from_vector(pairs.wall_box[i])
+    assert model.frame_for(room, True, wall, None) == (FRAME_SUPPORT, room)

@@ -149,6 +149,12 @@ def test_cli_prints_json(cli, pairs_dir, tmp_path, capsys):
     # the saved baseline gives the same number
     assert cli(["score", "--model", str(saved), "--data", str(pairs_dir), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["nll"] == want
+    # --no-anchor-frames: the baseline in the support's frame only
+    assert cli([*args, "--no-anchor-frames"]) == 0
+    plain = GaussianBaseline.fit(
+        load_pairs(pairs_dir), "train", GaussianConfig(anchor_frames=False)
+    )
+    assert json.loads(capsys.readouterr().out)["nll"] == score(plain, pairs_dir, "val").nll != want
 
 
 def test_cli_user_errors(cli, tmp_path, pairs_dir, capsys):

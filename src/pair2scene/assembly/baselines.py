@@ -8,10 +8,15 @@ and gravity the learned model gets; only where the candidates come from differs.
 
 * :class:`GaussianPlacement`: the per-pair Gaussian baseline
   (:class:`~pair2scene.model.baseline.GaussianBaseline`) as a sampler: its mixture for the
-  query's category key, conditioned on the dependent's size, drawn in the support's
-  canonical frame and mapped back to the world.
-* :class:`RandomPlacement`: nothing learned: anywhere in the room (floor objects) or over
-  the support's footprint (supported ones), at any yaw.
+  query's category key, conditioned on the dependent's size, drawn in the frame the
+  learned model would draw in (with the baseline's ``anchor_frames``, the default: the
+  wall a floor object is to stand against, else its functional anchor's footprint, else
+  its support; :func:`~pair2scene.model.baseline.frame_choice`) and mapped back to the
+  world.
+* :class:`RandomPlacement`: nothing learned, the null model: anywhere in the room (floor
+  objects) or over the support's footprint (supported ones), at any yaw. It goes through
+  no anchor frame on purpose (``query.wall`` and ``query.functional`` are ignored): a
+  uniform draw in a wall's frame would already know that the object stands at a wall.
 
 Each call seeds a numpy generator with one integer drawn from the torch ``generator``, so
 the placer's seed decides every draw (same seed, same scene) and successive objects of a
@@ -28,7 +33,13 @@ import torch
 
 from pair2scene.errors import UserError
 from pair2scene.model.api import PlacementModel, PlacementQuery, canonical_to_world
-from pair2scene.model.baseline import GaussianBaseline, GaussianConfig, GaussianMixture
+from pair2scene.model.baseline import (
+    GaussianBaseline,
+    GaussianConfig,
+    GaussianMixture,
+    frame_key,
+)
+from pair2scene.scene.geometry import OrientedBox
 
 _EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts under a support's half-size."""
@@ -78,7 +89,8 @@ class GaussianPlacement(_Sampler):
     @classmethod
     def from_spec(cls, path: str | Path, config: GaussianConfig | None = None):
         """A saved baseline JSON (:meth:`GaussianBaseline.save`), or a 3D-Pairs folder to fit
-        one on (its train split; a few seconds)."""
+        one on (its train split, with ``config``, default :class:`GaussianConfig`: anchor
+        frames on; a few seconds)."""
         from pair2scene.curation.dataset import load_pairs
 
         path = Path(path)
@@ -87,6 +99,14 @@ class GaussianPlacement(_Sampler):
         if not path.exists():
             raise UserError(f"{path}: no such file or folder (a 3D-Pairs folder or a baseline)")
         return cls(GaussianBaseline.load(path))
+
+    def frame(self, query: PlacementQuery) -> tuple[int, OrientedBox]:
+        """(frame kind, frame box) ``query`` is drawn in: the learned model's choice
+        (:meth:`LayoutModel.frame <pair2scene.model.api.LayoutModel.frame>`) when the
+        baseline was fitted with anchor frames, else its support's box."""
+        sup = query.support
+        func = None if query.functional is None else query.functional.box
+        return self.baseline.frame_for(sup.box, sup.is_floor, query.wall, func)
 
     def sample(
         self,
@@ -97,11 +117,12 @@ class GaussianPlacement(_Sampler):
         keep_size: bool = True,
     ) -> np.ndarray:
         """``n`` candidate world boxes (n, 12) for one query; ``keep_size`` conditions on
-        the query's size (every candidate has it), False draws the size too."""
-        sup = query.support.box
+        the query's size (every candidate has it), False draws the size too. Drawn in
+        :meth:`frame`'s box and mapped back to the world."""
+        kind, frame = self.frame(query)
         key = (
             query.category,
-            query.support.category,
+            frame_key(query.support.category, kind),
             "" if query.functional is None else query.functional.category,
         )
         mix = self._mixtures.get(key)
@@ -109,18 +130,21 @@ class GaussianPlacement(_Sampler):
             mix = self._mixtures[key] = self.baseline.mixture_for(*key)
         size = None
         if keep_size:
-            size = np.asarray(query.size, dtype=np.float64) / np.maximum(sup.half_size, _EPS)
+            size = np.asarray(query.size, dtype=np.float64) / np.maximum(frame.half_size, _EPS)
         rng = numpy_rng(generator)
         canonical = self.baseline.sample_arrays(*key, n, rng, size, temperature, mixture=mix)
-        out = canonical_to_world(canonical, sup)
+        out = canonical_to_world(canonical, frame)
         if keep_size:  # exactly the asset's size, not half * (size / half)
             out[:, 3:6] = np.asarray(query.size, dtype=np.float64)
         return out
 
 
 class RandomPlacement(_Sampler):
-    """Uniform placement, nothing learned: the baseline that shows what the rules and the
-    rejection sampling alone give.
+    """Uniform placement, nothing learned: the null model, the baseline that shows what the
+    rules and the rejection sampling alone give. It stays uniform over the room or the
+    support whatever anchors the query names (``query.wall`` and ``query.functional`` are
+    ignored, unlike the learned model's and the Gaussian's anchor frames): drawing in a
+    wall's frame would already put the object at the wall.
 
     Floor objects: centre uniform over the room's bounds (narrowed by the drawn footprint's
     extent, so candidates are not wasted on walls), standing on the floor. Supported

@@ -28,6 +28,14 @@ def score_command(
     split: Annotated[str, typer.Option(help="Split to score: val or train.")] = "val",
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON (see below).")] = False,
     seed: Annotated[int, typer.Option(help="Seed of the baseline's EM (--model gaussian).")] = 0,
+    anchor_frames: Annotated[
+        bool,
+        typer.Option(
+            help="With --model gaussian: fit each tuple in its governing anchor's frame (a "
+            "wall, a functional anchor), as the learned model does; --no-anchor-frames: "
+            "every tuple in its support's frame."
+        ),
+    ] = True,
     save_baseline: Annotated[
         Path | None,
         typer.Option(help="With --model gaussian: also write the fitted baseline as JSON here."),
@@ -49,7 +57,9 @@ def score_command(
     if save_baseline is not None and model != "gaussian":
         raise UserError("--save-baseline needs --model gaussian")
     pairs = load_pairs(data)
-    scorer = load_model(model, pairs, baseline_config=GaussianConfig(seed=seed))
+    scorer = load_model(
+        model, pairs, baseline_config=GaussianConfig(seed=seed, anchor_frames=anchor_frames)
+    )
     if save_baseline is not None:
         assert isinstance(scorer, GaussianBaseline)
         scorer.save(save_baseline)

@@ -8,19 +8,42 @@ the support anchor's canonical frame, exactly as the 3D-Pairs dataset stores it,
 the quantity :mod:`pair2scene.model.scoring` scores. By default the mixtures live in
 (centre, log size, 6D), like the learned model's, and the log-Jacobian is added back.
 
+Anchor frames (issue 18)
+------------------------
+With :attr:`GaussianConfig.anchor_frames` (the default) every tuple is modelled in the
+frame the learned model predicts it in
+(:attr:`pair2scene.model.layout.LayoutConfig.anchor_frames`), so that the comparison is
+fair: a floor object standing against a wall in that wall's frame, else a floor object
+with a functional anchor in the anchor's footprint frame, else its support's frame
+(:func:`frame_choice`, the same rule as :func:`pair2scene.model.features.frame_choice`,
+kept torch-free here). The frame kind joins the support's key (:func:`frame_key`:
+``floor@wall``, ``floor@functional``), so "bed against a wall" and "bed in the room's
+frame" get mixtures of their own, and the global key (``(@wall,)``, ``(@functional,)``;
+``()`` for the support's frame), so that the last resort of a tuple is a mixture in its
+own frame. The dependent's level pools the frames, as it pools the supports. On 3D-Pairs
+(issue 18) that is the best of the four ways to key the two coarse levels: one global
+mixture over all frames cost the support tuples, whose frame does not change, ~0.9 nats;
+frames in the dependent's key too cost the floor and functional tuples ~0.3-0.8 nats
+(fewer tuples per key). From the stored support frame to another one is an affine map of
+the 12 numbers (centre and size scaled per axis by ``h_support / h_frame``, the rotation
+rotated), so the scores stay densities of the stored vector:
+``log p_x = log p_frame + 2 (sum log h_support - sum log h_frame)`` (centre and size),
+and the size marginal adds the size's half of it.
+
 Mixtures are fitted per category key at four levels, finest first::
 
     sup_dep_func   (support category, dependent category, functional category | none)
     sup_dep        (support category, dependent category)
     dep            (dependent category)
-    global         ()
+    global         ()                                   (per frame, see above)
 
 A key gets its own mixture when the training split has at least ``min_count`` tuples
-with it (``global`` always gets one); rarer keys back off to the next level. A query's
-density interpolates its fitted levels, finest first: ``(1 - smoothing) p_finest +
-smoothing p_rest``, recursively down to ``global`` (``smoothing = 0``: hard back-off to
-the finest fitted key). Each mixture is fitted by a small seeded EM (k-means++ seeding,
-Lloyd, then EM) in numpy, with ``min(components, n // min_per_component)`` components.
+with it (``global`` keys always get one); rarer keys back off to the next level. A
+query's density interpolates its fitted levels, finest first:
+``(1 - smoothing) p_finest + smoothing p_rest``, recursively down to ``global``
+(``smoothing = 0``: hard back-off to the finest fitted key). Each mixture is fitted by a
+small seeded EM (k-means++ seeding, Lloyd, then EM) in numpy, with
+``min(components, n // min_per_component)`` components.
 
 Why the variance floor matters: the 12 numbers are not free. The 6D rotation of an
 upright object has two exact zeros, a floor-standing object's centre height is exactly
@@ -44,7 +67,7 @@ from __future__ import annotations
 import json
 import math
 import zlib
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -62,6 +85,8 @@ from pair2scene.model.scoring import (
     log_prob_from_log_size,
     to_log_size,
 )
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR
 
 BASELINE_FORMAT = "pair2scene.gaussian_baseline"
 BASELINE_VERSION = 1
@@ -69,6 +94,13 @@ LEVELS: tuple[str, ...] = ("sup_dep_func", "sup_dep", "dep", "global")
 """Back-off levels, finest first (see the module docstring)."""
 NONE_KEY = "none"
 """The functional category of a tuple without a functional anchor, in keys."""
+
+FRAME_SUPPORT, FRAME_WALL, FRAME_FUNCTIONAL = 0, 1, 2
+"""The frame a tuple is modelled in, numbered as :mod:`pair2scene.model.layout` does
+(that module needs torch, this one does not)."""
+FRAME_NAMES: tuple[str, ...] = ("support", "wall", "functional")
+FRAME_EPS = 1e-9
+"""The floor :meth:`OrientedBox.in_frame_of` puts under a frame's half-size."""
 
 DEFAULT_REG = 2.0e-6
 """Variance added to every covariance diagonal. The learned mixture of logistics floors
@@ -121,6 +153,14 @@ class GaussianConfig:
     seed: int = 0
     """Seed of the k-means++ initialisation; each key draws from (seed, crc32(key)), so a
     key's mixture does not depend on which other keys were fitted."""
+    anchor_frames: bool = True
+    """Model each tuple in the frame of the anchor that governs it, as the learned model
+    does by default (a floor object against a wall in the wall's frame, one with a
+    functional anchor in that anchor's footprint frame; the module docstring), with the
+    frame kind in the keys; scores stay densities of the stored canonical vector. True by
+    default so that the learned model is compared with the strongest fair baseline.
+    False: every tuple in its support's stored canonical frame (baselines saved before
+    issue 18 load with False)."""
 
     def __post_init__(self) -> None:
         if self.covariance not in ("full", "diag"):
@@ -364,13 +404,15 @@ def level_keys(
     dependent: Sequence[str], support: Sequence[str], functional: Sequence[str]
 ) -> dict[str, list[Key]]:
     """Per level, the key of each tuple. Inputs: (N,) category names; an empty
-    functional name means no functional anchor."""
+    functional name means no functional anchor. A support name with a frame
+    (:func:`frame_key`, ``floor@wall``) gives the tuple that frame's global key
+    (``(@wall,)``); the dependent's level pools every frame, as it pools every support."""
     func = [f if f else NONE_KEY for f in functional]
     return {
         "sup_dep_func": [(s, d, f) for s, d, f in zip(support, dependent, func)],
         "sup_dep": [(s, d) for s, d in zip(support, dependent)],
         "dep": [(d,) for d in dependent],
-        "global": [()] * len(dependent),
+        "global": [(f"@{s.partition('@')[2]}",) if "@" in s else () for s in support],
     }
 
 
@@ -396,6 +438,125 @@ def dataset_keys(data: PairsDataset) -> tuple[list[str], list[str], list[str]]:
     )
 
 
+def frame_key(support: str, kind: int) -> str:
+    """The support's name in the keys of a tuple modelled in frame ``kind``: the category
+    itself in its support's frame, ``<support>@wall`` / ``<support>@functional`` in a
+    wall's or a functional anchor's frame ("@" is in no category name)."""
+    return support if kind == FRAME_SUPPORT else f"{support}@{FRAME_NAMES[kind]}"
+
+
+def footprint_frame(anchor: OrientedBox, room_height: float) -> OrientedBox:
+    """A functional anchor's footprint frame: its centre, yaw and width/depth, from the
+    floor to the ceiling (as :func:`pair2scene.model.features.footprint_frame`)."""
+    x = anchor.rotation[:, 0]
+    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
+    center = [anchor.center[0], anchor.center[1], room_height / 2]
+    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], yaw)
+
+
+def frame_choice(
+    support: OrientedBox,
+    on_floor: bool,
+    wall: OrientedBox | None,
+    functional: OrientedBox | None,
+) -> tuple[int, OrientedBox]:
+    """(frame kind, frame box) of one tuple, the learned model's rule
+    (:func:`pair2scene.model.features.frame_choice`): the wall's frame for a floor object
+    against a wall, else its functional anchor's footprint frame for a floor object with
+    one, else the support's box."""
+    if on_floor and wall is not None:
+        return FRAME_WALL, wall
+    if on_floor and functional is not None:
+        return FRAME_FUNCTIONAL, footprint_frame(functional, float(support.size[2]))
+    return FRAME_SUPPORT, support
+
+
+def tuple_frames(data: PairsDataset) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) frame kinds and (N, 12) frame boxes of every tuple (:func:`frame_choice` on
+    its support, stored wall and functional anchor)."""
+    kinds = np.full(len(data), FRAME_SUPPORT, np.int64)
+    boxes = data.support.box.astype(np.float64)
+    has_wall, has_func = data.wall_index >= 0, data.functional.present
+    for i in np.flatnonzero((data.support.id == FLOOR) & (has_wall | has_func)):
+        kind, frame = frame_choice(
+            OrientedBox.from_vector(boxes[i]),
+            True,
+            OrientedBox.from_vector(data.wall_box[i]) if has_wall[i] else None,
+            OrientedBox.from_vector(data.functional.box[i]) if has_func[i] else None,
+        )
+        kinds[i], boxes[i] = kind, frame.to_vector()
+    return kinds, boxes
+
+
+def canonical_to_frame(
+    canonical: np.ndarray, support: np.ndarray, frame: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Stored canonical vectors (N, 12) in the frames of ``support`` (N, 12 box vectors)
+    -> the same boxes in the frames of ``frame`` (N, 12), and (N,) the log-Jacobian
+    ``sum log h_support - sum log h_frame`` of each of the two scaled parts (the centre,
+    the size): an affine map, so ``log p(canonical) = log p(out) + 2 * that``. The 6D
+    part is rotated as stored (not orthonormalised)."""
+    x = np.asarray(canonical, dtype=np.float64).reshape(-1, BOX_DIM)
+    sup = np.asarray(support, dtype=np.float64).reshape(-1, BOX_DIM)
+    frm = np.asarray(frame, dtype=np.float64).reshape(-1, BOX_DIM)
+    out = np.empty_like(x)
+    log_jac = np.zeros(len(x))
+    for i in range(len(x)):
+        s, f = OrientedBox.from_vector(sup[i]), OrientedBox.from_vector(frm[i])
+        hs, hf = np.maximum(s.half_size, FRAME_EPS), np.maximum(f.half_size, FRAME_EPS)
+        rel = f.rotation.T @ s.rotation  # support axes in the frame's
+        out[i, 0:3] = (rel @ (x[i, 0:3] * hs) + f.rotation.T @ (s.center - f.center)) / hf
+        out[i, 3:6] = x[i, 3:6] * hs / hf
+        out[i, 6:9], out[i, 9:12] = rel @ x[i, 6:9], rel @ x[i, 9:12]
+        log_jac[i] = np.log(hs).sum() - np.log(hf).sum()
+    return out, log_jac
+
+
+@dataclass(frozen=True)
+class FramedTuples:
+    """What the baseline fits and scores of a dataset: each tuple's box in its frame with
+    its keys, and the Jacobians back to the stored canonical vector."""
+
+    x: np.ndarray
+    """(N, 12) each dependent's box in its frame (the stored canonical one in the
+    support's frame)."""
+    dependent: list[str]
+    support: list[str]
+    """(N,) the support's key name (:func:`frame_key`)."""
+    functional: list[str]
+    kinds: np.ndarray
+    """(N,) frame kind (:data:`FRAME_NAMES`)."""
+    log_jacobian: np.ndarray
+    """(N,) log p(stored canonical) - log p(x): 2 * the per-part log-Jacobian."""
+    size_log_jacobian: np.ndarray
+    """(N,) the same for the size marginal: the size's part only."""
+
+
+def framed_tuples(
+    data: PairsDataset, anchor_frames: bool, frames: Collection[int] | None = None
+) -> FramedTuples:
+    """:class:`FramedTuples` of every tuple of ``data``; without ``anchor_frames`` every
+    tuple is in its support's frame (``x`` is ``data.canonical`` and the Jacobians 0).
+
+    frames : the frame kinds that may be used (None: all); a tuple whose frame is not
+        among them stays in its support's frame.
+    """
+    dep, sup, func = dataset_keys(data)
+    x = data.canonical.astype(np.float64)
+    n = len(data)
+    kinds, part_jac = np.full(n, FRAME_SUPPORT, np.int64), np.zeros(n)
+    if anchor_frames:
+        kinds, frames_box = tuple_frames(data)
+        if frames is not None:
+            kinds[~np.isin(kinds, list(frames))] = FRAME_SUPPORT
+        rows = np.flatnonzero(kinds != FRAME_SUPPORT)
+        x[rows], part_jac[rows] = canonical_to_frame(
+            x[rows], data.support.box[rows], frames_box[rows]
+        )
+        sup = [frame_key(s, int(k)) for s, k in zip(sup, kinds.tolist())]
+    return FramedTuples(x, dep, sup, func, kinds, 2.0 * part_jac, part_jac)
+
+
 def _key_seed(seed: int, level: str, key: Key) -> np.random.Generator:
     return np.random.default_rng([seed, zlib.crc32("/".join((level, *key)).encode())])
 
@@ -411,6 +572,9 @@ class GaussianBaseline:
     config: GaussianConfig
     mixtures: dict[str, dict[Key, GaussianMixture]]
     """level -> key -> mixture; ``global`` holds the single key ``()``."""
+    _framed: tuple[PairsDataset, FramedTuples] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
 
     @classmethod
     def fit(
@@ -419,15 +583,22 @@ class GaussianBaseline:
         split: str | None = "train",
         config: GaussianConfig | None = None,
     ) -> GaussianBaseline:
-        """Fit on the tuples of ``split`` (all tuples when None)."""
+        """Fit on the tuples of ``split`` (all tuples when None), each in its frame
+        (:func:`framed_tuples`, with ``config.anchor_frames``)."""
         config = config or GaussianConfig()
         mask = np.ones(len(data), bool) if split is None else data.split == split
         if not mask.any():
             have = sorted(set(data.split.tolist()))
             raise UserError(f"no {split!r} tuples to fit the Gaussian baseline on (splits: {have})")
-        x = data.canonical[mask].astype(np.float64)
-        dep, sup, func = (np.array(a, dtype=object)[mask] for a in dataset_keys(data))
-        return cls.fit_arrays(x, dep.tolist(), sup.tolist(), func.tolist(), config)
+        framed = framed_tuples(data, config.anchor_frames)
+        rows = np.flatnonzero(mask).tolist()
+        return cls.fit_arrays(
+            framed.x[rows],
+            [framed.dependent[i] for i in rows],
+            [framed.support[i] for i in rows],
+            [framed.functional[i] for i in rows],
+            config,
+        )
 
     @classmethod
     def fit_arrays(
@@ -438,7 +609,9 @@ class GaussianBaseline:
         functional: Sequence[str],
         config: GaussianConfig | None = None,
     ) -> GaussianBaseline:
-        """Fit on x (N, 12) with (N,) category names ("" functional: none)."""
+        """Fit on x (N, 12) with (N,) category names ("" functional: none); x and the
+        support names as :func:`framed_tuples` gives them (the arrays are taken as they
+        are, whatever ``config.anchor_frames``)."""
         config = config or GaussianConfig()
         x = np.asarray(x, dtype=np.float64)
         if x.ndim != 2 or x.shape[1] != BOX_DIM or len(x) == 0:
@@ -450,6 +623,8 @@ class GaussianBaseline:
             rows: dict[Key, list[int]] = {}
             for i, key in enumerate(keys):
                 rows.setdefault(key, []).append(i)
+            if level == "global" and () not in rows:  # every frame falls back on ()
+                rows[()] = list(range(len(x)))
             mixtures[level] = {
                 key: fit_mixture(x[idx], config, _key_seed(config.seed, level, key))
                 for key, idx in sorted(rows.items())
@@ -457,13 +632,23 @@ class GaussianBaseline:
             }
         return cls(config, mixtures)
 
+    def keys(
+        self, dependent: Sequence[str], support: Sequence[str], functional: Sequence[str]
+    ) -> dict[str, list[Key]]:
+        """:func:`level_keys`, a frame's global key that was never fitted (no train tuple
+        in that frame) replaced by the global ``()``."""
+        keys = level_keys(dependent, support, functional)
+        fitted = self.mixtures["global"]
+        keys["global"] = [k if k in fitted else () for k in keys["global"]]
+        return keys
+
     # -- queries --------------------------------------------------------------------------
 
     def resolve(
         self, dependent: Sequence[str], support: Sequence[str], functional: Sequence[str]
     ) -> tuple[np.ndarray, list[Key]]:
         """Which mixture scores each tuple: ((N,) level index into LEVELS, (N,) key)."""
-        keys = level_keys(dependent, support, functional)
+        keys = self.keys(dependent, support, functional)
         n = len(dependent)
         level = np.full(n, len(LEVELS) - 1)
         chosen: list[Key] = [()] * n
@@ -479,7 +664,7 @@ class GaussianBaseline:
         ``config.log_size``): the components of every fitted level of the key, weighted as
         :meth:`log_prob_arrays` interpolates them, so sampling draws from the very density
         that is scored (``functional`` "": no functional anchor)."""
-        keys = level_keys([dependent], [support], [functional])
+        keys = self.keys([dependent], [support], [functional])
         lam = self.config.smoothing
         parts: list[tuple[float, GaussianMixture]] = []
         for level in reversed(LEVELS):
@@ -510,13 +695,14 @@ class GaussianBaseline:
         temperature: float = 1.0,
         mixture: GaussianMixture | None = None,
     ) -> np.ndarray:
-        """``n`` canonical boxes (n, 12) of one key, as the dataset stores them (centre,
-        size, 6D; the 6D part as drawn, not orthonormalised).
+        """``n`` canonical boxes (n, 12) of one key in the key's frame (the support's
+        key names it, :func:`frame_key`), as the dataset stores boxes (centre, size, 6D;
+        the 6D part as drawn, not orthonormalised).
 
-        size : (3,) the dependent's canonical size (its size over the support's
-            half-size): the mixture is conditioned on it (:meth:`GaussianMixture.condition`,
-            in log size when ``config.log_size``) and every draw has exactly this size,
-            as the learned model's samples do.
+        size : (3,) the dependent's canonical size (its size over its frame's half-size,
+            the support's without anchor frames): the mixture is conditioned on it
+            (:meth:`GaussianMixture.condition`, in log size when ``config.log_size``) and
+            every draw has exactly this size, as the learned model's samples do.
         mixture : :meth:`mixture_for` of the key, when the caller keeps it.
         """
         mix = self.mixture_for(dependent, support, functional) if mixture is None else mixture
@@ -533,7 +719,8 @@ class GaussianBaseline:
 
     def level_counts(self, data: PairsDataset) -> dict[str, int]:
         """How many tuples of ``data`` each back-off level scores."""
-        level, _ = self.resolve(*dataset_keys(data))
+        f = self.framed(data)
+        level, _ = self.resolve(f.dependent, f.support, f.functional)
         return {name: int((level == j).sum()) for j, name in enumerate(LEVELS)}
 
     def log_prob_arrays(
@@ -554,7 +741,7 @@ class GaussianBaseline:
         if dims is not None:
             dims = list(dims)
             y = y[:, dims]
-        keys = level_keys(dependent, support, functional)
+        keys = self.keys(dependent, support, functional)
         lam = self.config.smoothing
         # Coarse to fine: acc is the density of the coarser levels, each fitted finer key
         # takes (1 - lam) of the mass and leaves lam to acc.
@@ -576,13 +763,54 @@ class GaussianBaseline:
             acc = log_prob_from_log_size(acc, x[:, 3:6][:, sizes])
         return acc
 
+    def frame_for(
+        self,
+        support: OrientedBox,
+        on_floor: bool,
+        wall: OrientedBox | None,
+        functional: OrientedBox | None,
+    ) -> tuple[int, OrientedBox]:
+        """(frame kind, frame box) a placement query is drawn in: :func:`frame_choice`
+        with ``config.anchor_frames`` (a frame no train tuple was in: the support's), else
+        always its support's box."""
+        if not self.config.anchor_frames:
+            return FRAME_SUPPORT, support
+        kind, frame = frame_choice(support, on_floor, wall, functional)
+        return (kind, frame) if kind in self.frames else (FRAME_SUPPORT, support)
+
+    @property
+    def frames(self) -> frozenset[int]:
+        """The frame kinds the baseline was fitted in (each has its global mixture): a
+        tuple or a query whose frame is not among them (3D-Pairs v1 has no walls) is
+        modelled in its support's frame."""
+        fitted = self.mixtures["global"]
+        return frozenset(
+            k for k, name in enumerate(FRAME_NAMES)
+            if k == FRAME_SUPPORT or (self.config.anchor_frames and (f"@{name}",) in fitted)
+        )  # fmt: skip
+
+    def framed(self, data: PairsDataset) -> FramedTuples:
+        """Every tuple of ``data`` as this baseline fits and scores it (kept for the
+        last dataset: scoring asks for :meth:`log_prob` and then :meth:`log_prob_size`)."""
+        if self._framed is not None and self._framed[0] is data:
+            return self._framed[1]
+        framed = framed_tuples(data, self.config.anchor_frames, self.frames)
+        self._framed = (data, framed)
+        return framed
+
+    def _framed_log_prob(self, data: PairsDataset, dims: Sequence[int] | None) -> np.ndarray:
+        f = self.framed(data)
+        lp = self.log_prob_arrays(f.x, f.dependent, f.support, f.functional, dims=dims)
+        return lp + (f.log_jacobian if dims is None else f.size_log_jacobian)
+
     def log_prob(self, data: PairsDataset) -> np.ndarray:
-        """(N,) log density (nats) of each tuple's ``canonical`` box as stored."""
-        return self.log_prob_arrays(data.canonical, *dataset_keys(data))
+        """(N,) log density (nats) of each tuple's ``canonical`` box as stored (scored in
+        its frame, plus the frame's Jacobian)."""
+        return self._framed_log_prob(data, None)
 
     def log_prob_size(self, data: PairsDataset) -> np.ndarray:
         """(N,) log marginal density (nats) of each tuple's stored canonical size."""
-        return self.log_prob_arrays(data.canonical, *dataset_keys(data), dims=SIZE_DIMS)
+        return self._framed_log_prob(data, SIZE_DIMS)
 
     # -- persistence ----------------------------------------------------------------------
 
@@ -607,7 +835,9 @@ class GaussianBaseline:
             level: {tuple(e["key"]): GaussianMixture.from_dict(e) for e in doc["levels"][level]}
             for level in LEVELS
         }
-        return cls(GaussianConfig(**doc["config"]), mixtures)
+        # Baselines saved before anchor frames were fitted in the support's frame.
+        config = {"anchor_frames": False, **doc["config"]}
+        return cls(GaussianConfig(**config), mixtures)
 
     def save(self, path: str | Path) -> None:
         """Write the baseline as JSON (floats round-trip exactly)."""
