@@ -109,7 +109,9 @@ def test_upright_and_door_boxes():
     assert np.allclose(upright(tilted).rotation, np.eye(3))
     room = make_room("bedroom", np.random.default_rng(0))
     (box,) = door_boxes(room, 0.8, room.height)
-    assert box.size[1] == pytest.approx(1.6)
+    assert box.size[1] == pytest.approx(2 * max(0.8, room.doors[0].width))
+    (deep,) = door_boxes(room, 1.5, room.height)
+    assert deep.size[1] == pytest.approx(3.0)
 
 
 def test_yaw_snaps_to_the_support_axes_only_when_close():
@@ -171,8 +173,9 @@ def _door_room():
 
 
 def test_a_candidate_in_a_doors_swing_is_moved_out_of_it():
-    """A dresser drawn 0.35 m from the door's wall (its swing is 0.8 m deep) moves the
-    shortest way out of the swing, into the room, instead of being rejected."""
+    """A dresser drawn 0.35 m from the door's wall (its swing is as deep as the 0.9 m door
+    is wide) moves the shortest way out of the swing, into the room, instead of being
+    rejected."""
     h = Hierarchy("bedroom")
     h.add("dresser", FLOOR)
     room = _door_room()
@@ -183,10 +186,11 @@ def test_a_candidate_in_a_doors_swing_is_moved_out_of_it():
     (obj,) = result.scene.objects
     (zone,) = door_boxes(room, placer.config.door_clearance_m, room.height)
     half = obj.box.size[1] / 2
-    assert obj.box.center[1] - half == pytest.approx(0.8 + 2e-3, abs=1e-6)  # just clear
+    assert obj.box.center[1] - half == pytest.approx(0.9 + 2e-3, abs=1e-6)  # just clear
+    assert zone.size[1] == pytest.approx(2 * 0.9)
     assert obj.box.center[0] == pytest.approx(1.95)
-    far = Placer(placer.model, config=AssemblyConfig(floor_repair_m=0.4))
-    stats = far.place(h, room, seed=0).stats  # 0.45 m out of the swing: too far
+    far = Placer(placer.model, config=AssemblyConfig(floor_repair_m=0.5))
+    stats = far.place(h, room, seed=0).stats  # 0.55 m out of the swing: too far
     assert stats.placed == 0 and stats.rejections == {"door": 256}
 
 

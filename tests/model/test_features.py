@@ -148,6 +148,22 @@ def test_condition_is_bayes_on_the_given_dims():
     )
 
 
+def test_bearing_turns_a_chair_facing_its_table_to_yaw_zero():
+    from pair2scene.model.features import from_bearing, to_bearing
+
+    half = np.array([0.8, 0.5, 1.35])
+    for pos, yaw in (
+        ((0, -1.4), 0.0),
+        ((1.5, 0), np.pi / 2),
+        ((0, 1.4), np.pi),
+        ((-1.5, 0), -np.pi / 2),
+    ):
+        chair = OrientedBox.from_yaw([pos[0] / half[0], pos[1] / half[1], -0.7], [0.5] * 3, yaw)
+        rel = to_bearing(chair.to_vector(), half)
+        np.testing.assert_allclose(rel[6:12], [1, 0, 0, 0, 1, 0], atol=1e-9)
+        np.testing.assert_allclose(from_bearing(rel, half), chair.to_vector(), atol=1e-9)
+
+
 def test_anchor_frames_keep_scores_densities_of_the_stored_vector(data):
     """Wall and functional frames: target and log Jacobian against finite differences of
     the map stored canonical vector -> the frame's model target."""
@@ -164,7 +180,7 @@ def test_anchor_frames_keep_scores_densities_of_the_stored_vector(data):
             frame = OrientedBox.from_vector(frame_boxes[i])
             f = frame_factor(frame.size)
 
-            def fn(v, sup=sup, frame=frame, f=f):
+            def fn(v, sup=sup, frame=frame, f=f, kind=kind):
                 world = OrientedBox(
                     sup.rotation @ (v[:3] * sup.half_size) + sup.center,
                     v[3:6] * sup.half_size,
@@ -174,7 +190,11 @@ def test_anchor_frames_keep_scores_densities_of_the_stored_vector(data):
                 rel_s = world.size / frame.half_size
                 c0 = frame.rotation.T @ sup.rotation @ v[6:9]
                 c1 = frame.rotation.T @ sup.rotation @ v[9:12]
-                return target_of(to_model_frame(np.concatenate([rel_c, rel_s, c0, c1]), f))
+                own = np.concatenate([rel_c, rel_s, c0, c1])
+                if kind == FRAME_FUNCTIONAL:  # the rotation relative to the anchor's bearing
+                    yaw = np.arctan2(*(rel_c[:2] * frame.half_size[:2] * [1, -1]))
+                    own[6:9], own[9:12] = rot_z(-yaw) @ own[6:9], rot_z(-yaw) @ own[9:12]
+                return target_of(to_model_frame(own, f))
 
             xi = data.canonical[i].astype(np.float64)
             assert feats.log_jacobian[i] == pytest.approx(_log_abs_det(fn, xi), abs=1e-4)

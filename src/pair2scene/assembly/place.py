@@ -84,7 +84,8 @@ class AssemblyConfig:
     temperature: float = 0.8
     """Sampling temperature: below 1 favours the model's confident modes."""
     door_clearance_m: float = 0.8
-    """Depth in front of (and behind) a door that floor objects must leave free."""
+    """Depth in front of (and behind) a door that floor objects must leave free; at least
+    the door's width (the swing of its leaf)."""
     ceiling_margin_m: float = 0.05
     """Objects must end this far below the ceiling."""
     snap_yaw_deg: float = 45.0
@@ -278,7 +279,8 @@ def upright(box: OrientedBox, reference_yaw: float = 0.0, snap_deg: float = 0.0)
 
 
 def door_boxes(room: Room, depth: float, height: float) -> list[OrientedBox]:
-    """The free space in front of and behind each door (``depth`` each way)."""
+    """The free space in front of and behind each door: ``depth`` each way, and at least
+    the door's width (its leaf's swing, as :mod:`pair2scene.scene.navigation` measures it)."""
     out = []
     for door in room.doors:
         p0, p1 = np.asarray(door.p0, float), np.asarray(door.p1, float)
@@ -288,7 +290,8 @@ def door_boxes(room: Room, depth: float, height: float) -> list[OrientedBox]:
             continue
         yaw = float(np.arctan2(along[1], along[0]))
         mid = (p0 + p1) / 2
-        out.append(OrientedBox.from_yaw([*mid, height / 2], [width, 2 * depth, height], yaw))
+        reach = max(depth, width)
+        out.append(OrientedBox.from_yaw([*mid, height / 2], [width, 2 * reach, height], yaw))
     return out
 
 
@@ -384,8 +387,7 @@ class Placer:
             objects.append(obj)
         guard = None
         if cfg.navigable and cfg.reject:
-            guard = FloorGuard.for_room(room, door_clearance=cfg.door_clearance_m,
-                                        config=cfg.navigation)  # fmt: skip
+            guard = FloorGuard.for_room(room, config=cfg.navigation)
             for obj in keep or []:
                 if obj.support == FLOOR or obj.box.bottom < cfg.navigation.clearance_m:
                     guard.add(obj.box)

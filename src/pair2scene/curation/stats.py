@@ -39,8 +39,13 @@ large furniture)."""
 
 
 def is_placed(obj: SceneObject) -> bool:
-    """True for objects that give a relation tuple (a support, not structure, not a part)."""
-    return obj.support is not None and obj.super not in SKIPPED_SUPER_CATEGORIES
+    """True for objects that give a relation tuple (a support, not structure, not a part,
+    not part of another object: a faucet of a sink)."""
+    return (
+        obj.support is not None
+        and obj.super not in SKIPPED_SUPER_CATEGORIES
+        and obj.part_of is None
+    )
 
 
 def _is_template_member(obj: SceneObject) -> bool:

@@ -35,11 +35,13 @@ from pair2scene.model.features import (
     encode_clouds,
     frame_choice,
     frame_factor,
+    from_bearing,
     from_model_frame,
     room_cloud,
     to_model_frame,
 )
 from pair2scene.model.layout import (
+    FRAME_FUNCTIONAL,
     FRAME_SUPPORT,
     FUNCTIONAL,
     SUPPORT,
@@ -366,7 +368,11 @@ class LayoutModel:
         (centre, size, 6D; the 6D part orthonormalised)."""
         vec = box_of(samples)
         if self.variant is not Variant.GLOBAL:
-            return canonical_to_world(from_model_frame(vec, factor), self.frame(query)[1])
+            kind, frame = self.frame(query)
+            canonical = from_model_frame(vec, factor)
+            if kind == FRAME_FUNCTIONAL:
+                canonical = from_bearing(canonical, frame.half_size)
+            return canonical_to_world(canonical, frame)
         return _orthonormal_6d(vec)
 
     def sample(

@@ -37,6 +37,15 @@ that governs it (:func:`frame_choice`), not always its support's:
   "a chair in front of the table, facing it" is local to the table;
 - else its support's frame, as before.
 
+In a functional anchor's frame the rotation is taken relative to the *bearing* of the
+anchor (:func:`to_bearing`): turned about z so that +y points from the dependent's centre
+to the anchor's. Chairs stand on every side of a table, each facing it: as absolute yaws
+in the table's frame that is four (position, yaw) modes a per-dimension mixture has to
+couple, relative to the bearing it is one yaw (measured: raw draws of the model without
+it faced the table 26 % of the time, the per-pair Gaussian with full covariances 89 %).
+The map is a rotation of the 6D part by an angle that depends on the centre only, so its
+Jacobian is 1.
+
 The support anchor (the room) joins as an anchor box in that frame, the functional
 anchor too. Scores stay densities of the stored canonical vector: from the stored
 support frame to another frame is an affine map with a constant Jacobian (centre:
@@ -162,6 +171,38 @@ def frame_choice(
     if on_floor and functional is not None:
         return FRAME_FUNCTIONAL, footprint_frame(functional, float(support.size[2]))
     return FRAME_SUPPORT, support
+
+
+def bearing_yaw(center: np.ndarray) -> np.ndarray:
+    """(...,) yaw whose +y axis points from ``center`` (..., >=2, metres in the anchor's
+    frame, the anchor at the origin) to the anchor; 0 at the anchor's centre."""
+    c = np.asarray(center, np.float64)
+    near = np.hypot(c[..., 0], c[..., 1]) < 1e-6
+    return np.where(near, 0.0, np.arctan2(c[..., 0], -c[..., 1]))
+
+
+def _turn_6d(boxes: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+    out = np.array(boxes, dtype=np.float64)
+    cos, sin = np.cos(yaw)[..., None], np.sin(yaw)[..., None]
+    for k in (6, 9):
+        x, y = out[..., k : k + 1].copy(), out[..., k + 1 : k + 2].copy()
+        out[..., k : k + 1] = cos * x - sin * y
+        out[..., k + 1 : k + 2] = sin * x + cos * y
+    return out
+
+
+def to_bearing(canonical: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Boxes (..., 12) in a functional anchor's frame (canonical, the anchor's half-size
+    ``half`` (..., 3)) with the rotation taken relative to the anchor's bearing (the
+    module docstring)."""
+    yaw = bearing_yaw(np.asarray(canonical)[..., :2] * np.asarray(half)[..., :2])
+    return _turn_6d(canonical, -yaw)
+
+
+def from_bearing(boxes: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`to_bearing`."""
+    yaw = bearing_yaw(np.asarray(boxes)[..., :2] * np.asarray(half)[..., :2])
+    return _turn_6d(boxes, yaw)
 
 
 def frame_log_jacobian(support_size: np.ndarray, frame_size: np.ndarray) -> np.ndarray:
@@ -417,6 +458,8 @@ def dataset_features(
             sup = OrientedBox.from_vector(sup_box[i])
             dep = OrientedBox.from_vector(data.dependent.box[i].astype(np.float64))
             own[i] = dep.in_frame_of(frame).to_vector()
+            if frames[i] == FRAME_FUNCTIONAL:
+                own[i] = to_bearing(own[i], frame.half_size)
             anchor_boxes[i, 0] = to_model_frame(sup.in_frame_of(frame).to_vector(), factor[i])
         for i in np.flatnonzero(mask[:, FUNCTIONAL]):
             frame = OrientedBox.from_vector(frame_box[i])
