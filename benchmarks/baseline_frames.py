@@ -3,6 +3,7 @@
 Run from the repository root::
 
     python benchmarks/baseline_frames.py --data PAIRS [--split val] [--json]
+        [--model NAME=CHECKPOINT ...]
 
 Fits :class:`~pair2scene.model.baseline.GaussianBaseline` on the train split of ``PAIRS``
 twice (``anchor_frames`` True and False, everything else default) and scores the
@@ -10,7 +11,9 @@ twice (``anchor_frames`` True and False, everything else default) and scores the
 tuple) of the stored canonical box and the NLL given its size (``log p - log p_size``),
 overall, per relation kind and per frame kind (the frame the learned model predicts a
 tuple in: support, wall, functional; the same tuples for both fits). Prints a markdown
-table (``--json``: the rows as JSON).
+table (``--json``: the rows as JSON). Each ``--model`` (a learned checkpoint) is scored on
+the same groups, for a second table: NLL given size of the Gaussian in anchor frames next
+to the learned models (how docs/model.md decides the frames).
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ def main() -> int:
     ap.add_argument("--data", type=Path, required=True)
     ap.add_argument("--split", default="val")
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--model", action="append", default=[], help="NAME=CHECKPOINT_DIR")
     args = ap.parse_args()
 
     import numpy as np
@@ -73,8 +77,17 @@ def main() -> int:
                 }
             )
         print(json.dumps(rows[-len(groups)]), file=sys.stderr)
+    learned = {}
+    for spec in args.model:
+        from pair2scene.model.api import LayoutModel
+
+        name, _, path = spec.partition("=")
+        m = LayoutModel.from_pretrained(path)
+        lp, lps = m.log_prob(subset), m.log_prob_size(subset)
+        learned[name] = {g: (float(-lp[k].mean()), float(-(lp - lps)[k].mean()))
+                         for g, k in groups}  # fmt: skip
     if args.json:
-        print(json.dumps(rows, indent=1))
+        print(json.dumps({"gaussian": rows, "learned": learned}, indent=1))
         return 0
     by = {(r["anchor_frames"], r["group"]): r for r in rows}
     print(f"Gaussian baseline on {args.data} ({args.split}), nats per tuple, lower is better\n")
@@ -87,6 +100,15 @@ def main() -> int:
             f"{off['given_size']:.2f} | {on['given_size']:.2f} | "
             f"{off['size']:.2f} | {on['size']:.2f} |"
         )
+    if learned:
+        names = list(learned)
+        print("\n| tuples | n | Gaussian (frames) | " + " | ".join(names) + " |")
+        print("|---|---|---|" + "---|" * len(names))
+        print("| NLL given size |  |  |" + " |" * len(names))
+        for name, _ in groups:
+            on = by[(True, name)]
+            cells = " | ".join(f"{learned[m][name][1]:.2f}" for m in names)
+            print(f"| {name} | {on['n']} | {on['given_size']:.2f} | {cells} |")
     for flag in (False, True):
         r = by[(flag, "all")]
         print(f"\nanchor_frames={flag}: fit {r['fit_seconds']} s, levels {r['levels']}")

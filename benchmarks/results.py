@@ -117,6 +117,62 @@ def table(rows: dict[str, dict | None]) -> list[str]:
     return lines
 
 
+LAYOUT = (
+    ("layout", "against_wall", "against wall"),
+    ("layout", "chairs_facing_table", "chairs at table"),
+    ("layout", "sofas_facing_tv", "sofa faces TV"),
+    ("layout", "nightstands_at_bed_head", "nightstand at bed"),
+    ("navigation", "reachable_free_floor", "reachable floor"),
+    ("navigation", "rooms_reachable_0.97", "rooms >= 0.97"),
+    ("navigation", "objects_reachable", "fronts reachable"),
+    ("navigation", "doors_clear", "doors clear"),
+)
+"""The realism measures real rooms get too (evaluate's ``layout`` and ``navigation``
+sections): one table per room type, the reference rooms first."""
+
+
+def _rate(stat: dict | None) -> str:
+    if not stat or stat.get("rate") is None:
+        return "-"
+    return f"{stat['rate']:.2f}"
+
+
+def layout_table(rows: dict[str, dict | None]) -> list[str]:
+    """The measures of :data:`LAYOUT` (reference rooms first), then the against-wall rate
+    per category (the furniture real rooms put against a wall)."""
+    reports = {name: rep for name, rep in rows.items() if rep is not None}
+    if not reports:
+        return []
+    first = next(iter(reports.values()))
+    head = "| rooms | " + " | ".join(c[2] for c in LAYOUT) + " |"
+    lines = [head, "|" + "---|" * (len(LAYOUT) + 1)]
+
+    def row(name: str, side: str, rep: dict) -> str:
+        vals = [_rate(rep.get(sec, {}).get(key, {}).get(side)) for sec, key, _ in LAYOUT]
+        return f"| {name} | " + " | ".join(vals) + " |"
+
+    lines.append(row("real (reference)", "reference", first))
+    lines += [row(name, "generated", rep) for name, rep in reports.items()]
+    cats = [k for k in first.get("layout", {}) if k.startswith("against_wall/")]
+    cats = [k for k in cats if any(
+        (r.get("layout", {}).get(k, {}).get(side) or {}).get("rate") is not None
+        for r in reports.values() for side in ("generated", "reference"))]  # fmt: skip
+    if cats:
+        lines += ["", "| against a wall | " + " | ".join(k.split("/", 1)[1] for k in cats) + " |",
+                  "|" + "---|" * (len(cats) + 1)]  # fmt: skip
+
+        def cat_row(name: str, side: str, rep: dict) -> str:
+            return (
+                f"| {name} | "
+                + " | ".join(_rate(rep.get("layout", {}).get(k, {}).get(side)) for k in cats)
+                + " |"
+            )
+
+        lines.append(cat_row("real (reference)", "reference", first))
+        lines += [cat_row(name, "generated", rep) for name, rep in reports.items()]
+    return lines
+
+
 def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) -> str | None:
     """docs/results_<room>.png: a row of top views (what FID, KID and SCA see) for the real
     rooms and for each method; the file name, or None when nothing was generated."""
@@ -174,6 +230,16 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         if n_ref is not None:
             lines += [f"Reference: {n_ref} real rooms.", ""]
         lines += table(rows) + [""]
+        realism = layout_table(rows)
+        if realism:
+            lines += [
+                "Realism measures, computed alike for the real rooms and every method "
+                "(`pair2scene evaluate`'s layout and navigation sections; rates, and "
+                "the mean reachable share of the free floor):",
+                "",
+                *realism,
+                "",
+            ]
         picture = sheet(room, [n for n in described if rows.get(n)], a)
         if picture is not None:
             lines += [f"Top views, one row each: real rooms, then "

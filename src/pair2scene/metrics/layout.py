@@ -37,11 +37,12 @@ from pair2scene.scene.walls import against_wall, walls_of
 
 WALL_FURNITURE = (
     "bed", "sofa", "dresser", "wardrobe", "tv_stand", "shelving_unit", "fridge", "counter_top",
+    "toilet", "bathtub",
 )  # fmt: skip
 """Furniture that real rooms put with its back to a wall (issue 18): the categories pooled
-in the ``against_wall`` rate, each also reported on its own. (AI2-THOR's counter tops are
-the slab alone, 0.8-1.1 m up with no support, so they are not floor objects and are not
-counted; ProcTHOR's and generated counters stand on the floor.)"""
+in the ``against_wall`` rate, each also reported on its own (toilets and bathtubs for
+bathrooms). AI2-THOR's counters are cabinet runs from the floor since the adapters fold
+their slabs over the cabinets (:mod:`pair2scene.data.fixtures`), so they count too."""
 CHAIRS = ("chair",)
 """Seats that are pulled up to a table: ``chair`` (dining, desk and office chairs). Stools
 are left out: bar stools are mostly round, so their +y says nothing (ProcTHOR turns them
