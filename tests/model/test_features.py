@@ -167,10 +167,14 @@ def test_bearing_turns_a_chair_facing_its_table_to_yaw_zero():
 def test_anchor_frames_keep_scores_densities_of_the_stored_vector(data):
     """Wall and functional frames: target and log Jacobian against finite differences of
     the map stored canonical vector -> the frame's model target."""
-    from pair2scene.model.features import _tuple_frames
-    from pair2scene.model.layout import FRAME_FUNCTIONAL, FRAME_SUPPORT, FRAME_WALL
+    from pair2scene.curation.frames import (
+        FRAME_FUNCTIONAL,
+        FRAME_SUPPORT,
+        FRAME_WALL,
+        tuple_frames,
+    )
 
-    kinds, frame_boxes = _tuple_frames(data)
+    kinds, frame_boxes = tuple_frames(data)
     assert {FRAME_WALL, FRAME_FUNCTIONAL, FRAME_SUPPORT} <= set(kinds.tolist())
     feats = dataset_features(data, "full", with_clouds=False, anchor_frames=True).arrays
     np.testing.assert_array_equal(feats.frames, kinds)

@@ -24,6 +24,7 @@ import torch
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.curation.dataset import PairsDataset
+from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, frame_choice
 from pair2scene.model.checkpoint import Checkpoint, load_checkpoint
 from pair2scene.model.features import (
     TupleArrays,
@@ -33,7 +34,6 @@ from pair2scene.model.features import (
     category_index,
     dataset_features,
     encode_clouds,
-    frame_choice,
     frame_factor,
     from_bearing,
     from_model_frame,
@@ -41,8 +41,6 @@ from pair2scene.model.features import (
     to_model_frame,
 )
 from pair2scene.model.layout import (
-    FRAME_FUNCTIONAL,
-    FRAME_SUPPORT,
     FUNCTIONAL,
     SUPPORT,
     LayoutBatch,
@@ -279,7 +277,7 @@ class LayoutModel:
 
     def frame(self, query: PlacementQuery) -> tuple[int, OrientedBox]:
         """(frame kind, frame box) ``query`` is drawn in: its governing anchor's frame
-        (:func:`~pair2scene.model.features.frame_choice`) for a model with anchor frames,
+        (:func:`~pair2scene.curation.frames.frame_choice`) for a model with anchor frames,
         else its support's box."""
         sup = query.support
         if not self.predictor.uses_frames:

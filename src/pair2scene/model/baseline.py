@@ -15,7 +15,7 @@ frame the learned model predicts it in
 (:attr:`pair2scene.model.layout.LayoutConfig.anchor_frames`), so that the comparison is
 fair: a floor object standing against a wall in that wall's frame, else a floor object
 with a functional anchor in the anchor's footprint frame, else its support's frame
-(:func:`frame_choice`, the same rule as :func:`pair2scene.model.features.frame_choice`,
+(:func:`frame_choice`, the one rule of :mod:`pair2scene.curation.frames`,
 kept torch-free here). The frame kind joins the support's key (:func:`frame_key`:
 ``floor@wall``, ``floor@functional``), so "bed against a wall" and "bed in the room's
 frame" get mixtures of their own, and the global key (``(@wall,)``, ``(@functional,)``;
@@ -76,6 +76,15 @@ from scipy.linalg import solve_triangular
 from scipy.special import logsumexp
 
 from pair2scene.curation.dataset import PairsDataset
+from pair2scene.curation.frames import (  # noqa: F401  (re-exported for the baseline's users)
+    FRAME_FUNCTIONAL,
+    FRAME_NAMES,
+    FRAME_SUPPORT,
+    FRAME_WALL,
+    footprint_frame,
+    frame_choice,
+    tuple_frames,
+)
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.model.scoring import (
@@ -86,7 +95,6 @@ from pair2scene.model.scoring import (
     to_log_size,
 )
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR
 
 BASELINE_FORMAT = "pair2scene.gaussian_baseline"
 BASELINE_VERSION = 1
@@ -95,10 +103,6 @@ LEVELS: tuple[str, ...] = ("sup_dep_func", "sup_dep", "dep", "global")
 NONE_KEY = "none"
 """The functional category of a tuple without a functional anchor, in keys."""
 
-FRAME_SUPPORT, FRAME_WALL, FRAME_FUNCTIONAL = 0, 1, 2
-"""The frame a tuple is modelled in, numbered as :mod:`pair2scene.model.layout` does
-(that module needs torch, this one does not)."""
-FRAME_NAMES: tuple[str, ...] = ("support", "wall", "functional")
 FRAME_EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts under a frame's half-size."""
 
@@ -443,49 +447,6 @@ def frame_key(support: str, kind: int) -> str:
     itself in its support's frame, ``<support>@wall`` / ``<support>@functional`` in a
     wall's or a functional anchor's frame ("@" is in no category name)."""
     return support if kind == FRAME_SUPPORT else f"{support}@{FRAME_NAMES[kind]}"
-
-
-def footprint_frame(anchor: OrientedBox, room_height: float) -> OrientedBox:
-    """A functional anchor's footprint frame: its centre, yaw and width/depth, from the
-    floor to the ceiling (as :func:`pair2scene.model.features.footprint_frame`)."""
-    x = anchor.rotation[:, 0]
-    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
-    center = [anchor.center[0], anchor.center[1], room_height / 2]
-    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], yaw)
-
-
-def frame_choice(
-    support: OrientedBox,
-    on_floor: bool,
-    wall: OrientedBox | None,
-    functional: OrientedBox | None,
-) -> tuple[int, OrientedBox]:
-    """(frame kind, frame box) of one tuple, the learned model's rule
-    (:func:`pair2scene.model.features.frame_choice`): the wall's frame for a floor object
-    against a wall, else its functional anchor's footprint frame for a floor object with
-    one, else the support's box."""
-    if on_floor and wall is not None:
-        return FRAME_WALL, wall
-    if on_floor and functional is not None:
-        return FRAME_FUNCTIONAL, footprint_frame(functional, float(support.size[2]))
-    return FRAME_SUPPORT, support
-
-
-def tuple_frames(data: PairsDataset) -> tuple[np.ndarray, np.ndarray]:
-    """(N,) frame kinds and (N, 12) frame boxes of every tuple (:func:`frame_choice` on
-    its support, stored wall and functional anchor)."""
-    kinds = np.full(len(data), FRAME_SUPPORT, np.int64)
-    boxes = data.support.box.astype(np.float64)
-    has_wall, has_func = data.wall_index >= 0, data.functional.present
-    for i in np.flatnonzero((data.support.id == FLOOR) & (has_wall | has_func)):
-        kind, frame = frame_choice(
-            OrientedBox.from_vector(boxes[i]),
-            True,
-            OrientedBox.from_vector(data.wall_box[i]) if has_wall[i] else None,
-            OrientedBox.from_vector(data.functional.box[i]) if has_func[i] else None,
-        )
-        kinds[i], boxes[i] = kind, frame.to_vector()
-    return kinds, boxes
 
 
 def canonical_to_frame(

@@ -27,13 +27,14 @@ divided by the support's half-size ``h`` after removing its rotation), so
 Anchor frames (issue 18)
 ------------------------
 With :attr:`LayoutConfig.anchor_frames` a tuple is predicted in the frame of the anchor
-that governs it (:func:`frame_choice`), not always its support's:
+that governs it (:func:`~pair2scene.curation.frames.frame_choice`), not always its support's:
 
 - a floor object standing against a wall (the tuple's ``wall_box``): the wall's frame,
   x along the wall (in units of its half-length), y metres into the room, z the room's
   height; "back to the wall, facing in" is one narrow mode there;
 - else a floor object with a functional anchor: the anchor's *footprint frame*
-  (:func:`footprint_frame`: its centre, yaw and width/depth, z the room's height), so
+  (:func:`~pair2scene.curation.frames.footprint_frame`: its centre, yaw and width/depth,
+  z the room's height), so
   "a chair in front of the table, facing it" is local to the table;
 - else its support's frame, as before.
 
@@ -76,10 +77,8 @@ from pair2scene.assets.mesh import Asset
 from pair2scene.assets.pointcloud import sample_asset
 from pair2scene.categories import UNKNOWN
 from pair2scene.curation.dataset import CATEGORY_VOCAB, PairsDataset
+from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, tuple_frames
 from pair2scene.model.layout import (
-    FRAME_FUNCTIONAL,
-    FRAME_SUPPORT,
-    FRAME_WALL,
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
     SUPPORT,
@@ -146,31 +145,6 @@ def box_of(target: np.ndarray) -> np.ndarray:
 
 
 # -- anchor frames ------------------------------------------------------------------------
-
-
-def footprint_frame(anchor: OrientedBox, room_height: float) -> OrientedBox:
-    """The frame of a floor object placed relative to ``anchor``: the anchor's footprint
-    (centre, yaw, width and depth) from the floor to the ceiling."""
-    x = anchor.rotation[:, 0]
-    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
-    center = [anchor.center[0], anchor.center[1], room_height / 2]
-    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], yaw)
-
-
-def frame_choice(
-    support: OrientedBox,
-    on_floor: bool,
-    wall: OrientedBox | None,
-    functional: OrientedBox | None,
-) -> tuple[int, OrientedBox]:
-    """(frame kind, frame box) of one tuple (see the module docstring): the wall's frame
-    for a floor object against a wall, else its functional anchor's footprint frame for a
-    floor object with one, else the support's box."""
-    if on_floor and wall is not None:
-        return FRAME_WALL, wall
-    if on_floor and functional is not None:
-        return FRAME_FUNCTIONAL, footprint_frame(functional, float(support.size[2]))
-    return FRAME_SUPPORT, support
 
 
 def bearing_yaw(center: np.ndarray) -> np.ndarray:
@@ -318,7 +292,8 @@ class TupleArrays:
     """(N,) float64: log p(stored canonical size) = log p(target size dims) + this
     (``-sum(log size)``: the target's size is the log of the stored one times a constant)."""
     frames: np.ndarray | None = None
-    """(N,) int64 frame kind of each tuple (:func:`frame_choice`); None: the support's."""
+    """(N,) int64 frame kind of each tuple (:func:`~pair2scene.curation.frames.frame_choice`);
+    None: the support's."""
     frame_sizes: np.ndarray | None = None
     """(N, 3) float32 size of each tuple's frame box (m); None: the support's."""
 
@@ -447,7 +422,7 @@ def dataset_features(
         log_jac = -np.log(np.maximum(dep[:, 3:6], MIN_TARGET_SIZE)).sum(1)
         log_jac += 2 * np.log(half).sum(1)
     elif anchor_frames:
-        frames, frame_box = _tuple_frames(data)
+        frames, frame_box = tuple_frames(data)
         frame_sizes = frame_box[:, 3:6].astype(np.float32)
         factor = frame_factor(frame_box[:, 3:6])
         anchor_boxes[:, 0] = to_model_frame(np.broadcast_to(_UNIT_CUBE, (n, 12)), factor)
@@ -518,25 +493,6 @@ def dataset_features(
         frame_sizes=frame_sizes,
     )
     return Features(arrays, list(specs))
-
-
-def _tuple_frames(data: PairsDataset) -> tuple[np.ndarray, np.ndarray]:
-    """(N,) frame kinds and (N, 12) frame boxes of every tuple (:func:`frame_choice`)."""
-    n = len(data)
-    kinds = np.full(n, FRAME_SUPPORT, np.int64)
-    boxes = data.support.box.astype(np.float64).copy()
-    on_floor = data.support.id == FLOOR
-    has_wall = data.wall_index >= 0
-    has_func = data.functional.present
-    for i in np.flatnonzero(on_floor & (has_wall | has_func)):
-        kind, frame = frame_choice(
-            OrientedBox.from_vector(boxes[i]),
-            True,
-            OrientedBox.from_vector(data.wall_box[i]) if has_wall[i] else None,
-            OrientedBox.from_vector(data.functional.box[i]) if has_func[i] else None,
-        )
-        kinds[i], boxes[i] = kind, frame.to_vector()
-    return kinds, boxes
 
 
 def _size3(size: np.ndarray) -> tuple[float, float, float]:

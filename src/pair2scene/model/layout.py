@@ -97,6 +97,12 @@ import torch.nn.functional as F
 from torch import Tensor, nn
 
 from pair2scene.curation.dataset import CATEGORY_VOCAB
+from pair2scene.curation.frames import (  # noqa: F401  (re-exported)
+    FRAME_FUNCTIONAL,
+    FRAME_NAMES,
+    FRAME_SUPPORT,
+    FRAME_WALL,
+)
 from pair2scene.model import mixture
 from pair2scene.model.mixture import (
     BOX_DIM,
@@ -117,11 +123,6 @@ MIN_ANCHOR_HALF_M = 0.05
 """Floor on the support's half-size per axis in the model frame (metres), see
 :mod:`pair2scene.model.features`: canonical heights on 1.7 cm counter tops would reach
 the hundreds."""
-FRAME_SUPPORT, FRAME_WALL, FRAME_FUNCTIONAL = 0, 1, 2
-"""The anchor whose frame a tuple is predicted in (:attr:`LayoutConfig.anchor_frames`):
-its support's (the room for a floor object), the wall it stands against, or its
-functional anchor's footprint (see :mod:`pair2scene.model.features`)."""
-FRAME_NAMES = ("support", "wall", "functional")
 HEAD_INIT_STD = 0.02
 """Std of the head's output layer at initialisation: raw outputs start near 0, i.e.
 uniform weights, locations near 0 and log scales near 0 (unit-scale logistics)."""
