@@ -206,8 +206,9 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
         "(the bundled model's data); VARIANTS holds `pair2scene train --variant V` "
-        "checkpoints (`--train-missing` trains them; this run's `global` had 6 epochs, "
-        "`class-only` 40, `no-pretrain` its preset's 2).",
+        "checkpoints (`--train-missing` trains them; this run's `global` had 6 epochs and "
+        "`class-only` 40 on 3D-Pairs v2, with anchor frames; `no-pretrain`, 30 minutes of "
+        "training for 2 epochs, was not retrained for it).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "
