@@ -61,7 +61,7 @@ from pair2scene.assembly.walls import WallRules, free_length, free_stretches, wa
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.errors import UserError
+from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
@@ -178,12 +178,7 @@ class AssemblyConfig:
         def flag(name: str) -> str:
             return "--assembly." + name.replace("_", "-")
 
-        for name, value in positive.items():
-            if not (np.isfinite(value) and value > 0):
-                raise UserError(f"{flag(name)} must be > 0, got {value}")
-        for name, value in non_negative.items():
-            if not (np.isfinite(value) and value >= 0):
-                raise UserError(f"{flag(name)} must be >= 0, got {value}")
+        check_ranges("--assembly.", positive, non_negative)
         for name, value in loads.items():
             if value is not None and not (np.isfinite(value) and 0 < value <= 1):
                 raise UserError(f"{flag(name)} must be a share in (0, 1] or none, got {value}")

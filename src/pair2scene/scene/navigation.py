@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from pair2scene.errors import UserError
+from pair2scene.errors import UserError, check_ranges
 from pair2scene.scene.geometry import OrientedBox, convex_hull_2d, points_in_polygon
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
 from pair2scene.scene.walls import walls_of
@@ -116,12 +116,7 @@ class NavigationConfig:
         non_negative = {"clearance_m": self.clearance_m, "front_reach_m": self.front_reach_m,
                         "any_side_below_m": self.any_side_below_m,
                         "min_cut_area_m2": self.min_cut_area_m2}  # fmt: skip
-        for name, value in positive.items():
-            if not (np.isfinite(value) and value > 0):
-                raise UserError(f"{flag(name)} must be > 0, got {value}")
-        for name, value in non_negative.items():
-            if not (np.isfinite(value) and value >= 0):
-                raise UserError(f"{flag(name)} must be >= 0, got {value}")
+        check_ranges("--assembly.navigation.", positive, non_negative)
         if self.resolution_m > 0.5:
             raise UserError(f"{flag('resolution_m')} must be at most 0.5, got {self.resolution_m}")
         if self.door_swing_m is not None and not (
