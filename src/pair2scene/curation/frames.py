@@ -21,15 +21,15 @@ FRAME_SUPPORT, FRAME_WALL, FRAME_FUNCTIONAL = 0, 1, 2
 """The frame a tuple is predicted in: its support's, the wall it stands against, or its
 functional anchor's footprint."""
 FRAME_NAMES: tuple[str, ...] = ("support", "wall", "functional")
+FRAME_EPS = 1e-9
+"""The floor :meth:`OrientedBox.in_frame_of` puts under a frame's half-size."""
 
 
 def footprint_frame(anchor: OrientedBox, room_height: float) -> OrientedBox:
     """The frame of a floor object placed relative to ``anchor``: the anchor's footprint
     (centre, yaw, width and depth) from the floor to the ceiling."""
-    x = anchor.rotation[:, 0]
-    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
     center = [anchor.center[0], anchor.center[1], room_height / 2]
-    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], yaw)
+    return OrientedBox.from_yaw(center, [*anchor.size[:2], room_height], anchor.yaw)
 
 
 def frame_choice(
@@ -61,3 +61,27 @@ def tuple_frames(data: PairsDataset) -> tuple[np.ndarray, np.ndarray]:
         )
         kinds[i], boxes[i] = kind, frame.to_vector()
     return kinds, boxes
+
+
+def canonical_to_frame(
+    canonical: np.ndarray, support: np.ndarray, frame: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Stored canonical vectors (N, 12) in the frames of ``support`` (N, 12 box vectors)
+    -> the same boxes in the frames of ``frame`` (N, 12), and (N,) the log-Jacobian
+    ``sum log h_support - sum log h_frame`` of each of the two scaled parts (the centre,
+    the size): an affine map, so ``log p(canonical) = log p(out) + 2 * that``. The 6D
+    part is rotated as stored (not orthonormalised)."""
+    x = np.asarray(canonical, dtype=np.float64).reshape(-1, 12)
+    sup = np.asarray(support, dtype=np.float64).reshape(-1, 12)
+    frm = np.asarray(frame, dtype=np.float64).reshape(-1, 12)
+    out = np.empty_like(x)
+    log_jac = np.zeros(len(x))
+    for i in range(len(x)):
+        s, f = OrientedBox.from_vector(sup[i]), OrientedBox.from_vector(frm[i])
+        hs, hf = np.maximum(s.half_size, FRAME_EPS), np.maximum(f.half_size, FRAME_EPS)
+        rel = f.rotation.T @ s.rotation  # support axes in the frame's
+        out[i, 0:3] = (rel @ (x[i, 0:3] * hs) + f.rotation.T @ (s.center - f.center)) / hf
+        out[i, 3:6] = x[i, 3:6] * hs / hf
+        out[i, 6:9], out[i, 9:12] = rel @ x[i, 6:9], rel @ x[i, 9:12]
+        log_jac[i] = np.log(hs).sum() - np.log(hf).sum()
+    return out, log_jac

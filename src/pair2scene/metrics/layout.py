@@ -33,6 +33,7 @@ import numpy as np
 from pair2scene.categories import BY_NAME, SuperCategory
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
+from pair2scene.scene.navigation import footprint_polygon as footprint
 from pair2scene.scene.walls import against_wall, walls_of
 
 WALL_FURNITURE = (
@@ -98,22 +99,6 @@ def _floor_objects(scene: Scene) -> list[SceneObject]:
 
 
 # -- geometry --------------------------------------------------------------------------
-def footprint(box: OrientedBox) -> np.ndarray:
-    """The box seen from above: (4, 2) counter-clockwise corners of its local xy
-    rectangle (for an upright box, its exact footprint)."""
-    hx, hy = box.half_size[:2]
-    local = np.array([[-hx, -hy, 0.0], [hx, -hy, 0.0], [hx, hy, 0.0], [-hx, hy, 0.0]])
-    pts = box.to_world(local)[:, :2]
-    if _signed_area(pts) < 0:  # a mirrored rotation
-        pts = pts[::-1]
-    return pts
-
-
-def _signed_area(p: np.ndarray) -> float:
-    x, y = p[:, 0], p[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
-
-
 def _closest_on_segments(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """(M, 2) closest point to ``point`` (2,) on each segment a[i] -> b[i]."""
     d = b - a

@@ -81,6 +81,7 @@ from pair2scene.curation.frames import (  # noqa: F401  (re-exported for the bas
     FRAME_NAMES,
     FRAME_SUPPORT,
     FRAME_WALL,
+    canonical_to_frame,
     footprint_frame,
     frame_choice,
     tuple_frames,
@@ -103,8 +104,6 @@ LEVELS: tuple[str, ...] = ("sup_dep_func", "sup_dep", "dep", "global")
 NONE_KEY = "none"
 """The functional category of a tuple without a functional anchor, in keys."""
 
-FRAME_EPS = 1e-9
-"""The floor :meth:`OrientedBox.in_frame_of` puts under a frame's half-size."""
 
 DEFAULT_REG = 2.0e-6
 """Variance added to every covariance diagonal. The learned mixture of logistics floors
@@ -447,30 +446,6 @@ def frame_key(support: str, kind: int) -> str:
     itself in its support's frame, ``<support>@wall`` / ``<support>@functional`` in a
     wall's or a functional anchor's frame ("@" is in no category name)."""
     return support if kind == FRAME_SUPPORT else f"{support}@{FRAME_NAMES[kind]}"
-
-
-def canonical_to_frame(
-    canonical: np.ndarray, support: np.ndarray, frame: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Stored canonical vectors (N, 12) in the frames of ``support`` (N, 12 box vectors)
-    -> the same boxes in the frames of ``frame`` (N, 12), and (N,) the log-Jacobian
-    ``sum log h_support - sum log h_frame`` of each of the two scaled parts (the centre,
-    the size): an affine map, so ``log p(canonical) = log p(out) + 2 * that``. The 6D
-    part is rotated as stored (not orthonormalised)."""
-    x = np.asarray(canonical, dtype=np.float64).reshape(-1, BOX_DIM)
-    sup = np.asarray(support, dtype=np.float64).reshape(-1, BOX_DIM)
-    frm = np.asarray(frame, dtype=np.float64).reshape(-1, BOX_DIM)
-    out = np.empty_like(x)
-    log_jac = np.zeros(len(x))
-    for i in range(len(x)):
-        s, f = OrientedBox.from_vector(sup[i]), OrientedBox.from_vector(frm[i])
-        hs, hf = np.maximum(s.half_size, FRAME_EPS), np.maximum(f.half_size, FRAME_EPS)
-        rel = f.rotation.T @ s.rotation  # support axes in the frame's
-        out[i, 0:3] = (rel @ (x[i, 0:3] * hs) + f.rotation.T @ (s.center - f.center)) / hf
-        out[i, 3:6] = x[i, 3:6] * hs / hf
-        out[i, 6:9], out[i, 9:12] = rel @ x[i, 6:9], rel @ x[i, 9:12]
-        log_jac[i] = np.log(hs).sum() - np.log(hf).sum()
-    return out, log_jac
 
 
 @dataclass(frozen=True)

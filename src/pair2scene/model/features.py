@@ -77,7 +77,12 @@ from pair2scene.assets.mesh import Asset
 from pair2scene.assets.pointcloud import sample_asset
 from pair2scene.categories import UNKNOWN
 from pair2scene.curation.dataset import CATEGORY_VOCAB, PairsDataset
-from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, tuple_frames
+from pair2scene.curation.frames import (
+    FRAME_FUNCTIONAL,
+    FRAME_SUPPORT,
+    canonical_to_frame,
+    tuple_frames,
+)
 from pair2scene.model.layout import (
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
@@ -177,14 +182,6 @@ def from_bearing(boxes: np.ndarray, half: np.ndarray) -> np.ndarray:
     """Inverse of :func:`to_bearing`."""
     yaw = bearing_yaw(np.asarray(boxes)[..., :2] * np.asarray(half)[..., :2])
     return _turn_6d(boxes, yaw)
-
-
-def frame_log_jacobian(support_size: np.ndarray, frame_size: np.ndarray) -> np.ndarray:
-    """(N,) ``sum(log h_support) - sum(log h_frame)``: the part of the stored vector's log
-    density that the change from the support's frame to the tuple's frame adds."""
-    hs = np.maximum(0.5 * np.asarray(support_size, np.float64), CANONICAL_EPS)
-    hf = np.maximum(0.5 * np.asarray(frame_size, np.float64), CANONICAL_EPS)
-    return np.log(hs).sum(-1) - np.log(hf).sum(-1)
 
 
 # -- geometry -----------------------------------------------------------------------------
@@ -428,20 +425,21 @@ def dataset_features(
         anchor_boxes[:, 0] = to_model_frame(np.broadcast_to(_UNIT_CUBE, (n, 12)), factor)
         canonical = data.canonical.astype(np.float64)
         own = canonical.copy()  # the dependent in its frame (the stored one: the support's)
-        for i in np.flatnonzero(frames != FRAME_SUPPORT):
-            frame = OrientedBox.from_vector(frame_box[i])
-            sup = OrientedBox.from_vector(sup_box[i])
-            dep = OrientedBox.from_vector(data.dependent.box[i].astype(np.float64))
-            own[i] = dep.in_frame_of(frame).to_vector()
-            if frames[i] == FRAME_FUNCTIONAL:
-                own[i] = to_bearing(own[i], frame.half_size)
-            anchor_boxes[i, 0] = to_model_frame(sup.in_frame_of(frame).to_vector(), factor[i])
+        part_jac = np.zeros(n)  # sum log h_support - sum log h_frame
+        moved = np.flatnonzero(frames != FRAME_SUPPORT)
+        if len(moved):
+            pair = (sup_box[moved], frame_box[moved])
+            own[moved], part_jac[moved] = canonical_to_frame(canonical[moved], *pair)
+            room = canonical_to_frame(np.broadcast_to(_UNIT_CUBE, (len(moved), 12)), *pair)[0]
+            anchor_boxes[moved, 0] = to_model_frame(room, factor[moved])
+        bearing = np.flatnonzero(frames == FRAME_FUNCTIONAL)
+        own[bearing] = to_bearing(own[bearing], 0.5 * frame_box[bearing, 3:6])
         for i in np.flatnonzero(mask[:, FUNCTIONAL]):
             frame = OrientedBox.from_vector(frame_box[i])
             func = OrientedBox.from_vector(data.functional.box[i].astype(np.float64))
             anchor_boxes[i, 1] = to_model_frame(func.in_frame_of(frame).to_vector(), factor[i])
         target = target_of(to_model_frame(own, factor))
-        log_jac = np.log(factor).sum(1) + frame_log_jacobian(sup_box[:, 3:6], frame_box[:, 3:6])
+        log_jac = np.log(factor).sum(1) + part_jac
         log_jac -= np.log(np.maximum(canonical[:, 3:6], MIN_TARGET_SIZE)).sum(1)
     else:
         factor = frame_factor(sup_box[:, 3:6])
