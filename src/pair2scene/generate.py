@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pair2scene.assembly.anchors import AnchorRules
 from pair2scene.assembly.keep import Kept, load_keep, merge_keep
 from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
 from pair2scene.assembly.records import Dropped
@@ -161,7 +162,8 @@ class Pair2Scene:
         self.rooms = RoomTable.load() if rooms is None else rooms
         self.placer = Placer(model, SizeTable.load() if sizes is None else sizes,
                              self.config.assembly, sup_dep=self.stats.sup_dep,
-                             walls=WallRules.from_stats(self.stats))  # fmt: skip
+                             walls=WallRules.from_stats(self.stats),
+                             anchors=AnchorRules.from_stats(self.stats))  # fmt: skip
 
     @classmethod
     def from_pretrained(

@@ -14,18 +14,15 @@ from pair2scene.metrics.layout import (
     against_wall_counts,
     beside_bed_head,
     chairs_facing_table,
-    facing_angle,
-    footprint,
-    footprint_gap,
     layout_measures,
     layout_report,
-    nearest_point,
     nightstands_at_bed_head,
     on_floor,
     sofas_facing_tv,
 )
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+from pair2scene.scene.relations import facing_angle, footprint, footprint_gap, nearest_point
 
 SQUARE = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
 L_SHAPE = np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float)

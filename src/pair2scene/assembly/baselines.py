@@ -84,6 +84,7 @@ class GaussianPlacement(_Sampler):
 
     def __init__(self, baseline: GaussianBaseline) -> None:
         self.baseline = baseline
+        self.draws_in_frames = baseline.config.anchor_frames
         self._mixtures: dict[tuple[str, str, str], GaussianMixture] = {}
 
     @classmethod
@@ -157,6 +158,7 @@ class RandomPlacement(_Sampler):
     """
 
     honours_temperature = False
+    draws_in_frames = False
 
     def sample(
         self,

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from pair2scene.assembly.anchors import AnchorCheck, AnchorRules
 from pair2scene.assembly.balance import BalanceRules, balance_supports
 from pair2scene.assembly.collision import (
     TOLERANCES,
@@ -66,7 +67,7 @@ from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
-from pair2scene.scene.walls import walls_of
+from pair2scene.scene.walls import Wall, wall_contact, walls_of
 
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
@@ -134,6 +135,15 @@ class AssemblyConfig:
     type and category, :class:`~pair2scene.assembly.walls.WallRules`), drawing them in
     the wall's frame (a model with anchor frames), one wall with room for them at a time;
     False draws every floor object in the room's (or its functional anchor's) frame."""
+    anchors: bool = True
+    """Keep a floor object with a functional anchor at it as the training rooms do
+    (:class:`~pair2scene.assembly.anchors.AnchorRules`, per dependent and anchor
+    category): facing it as often as they faced theirs (chairs their table), in front of
+    it as often (a TV stand in front of the sofa), and no farther from it than they
+    stood; candidates that do not are rejected (``faces_away``, ``not_in_front``,
+    ``far_from_anchor``) and an object none of whose candidates passes is dropped. Only
+    for a model that draws in its anchors' frames (``draws_in_frames``; not the uniform
+    baseline). False takes whatever candidate the model draws and the other tests pass."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     confine: bool = True
@@ -310,6 +320,7 @@ class Placer:
         config: AssemblyConfig | None = None,
         sup_dep: dict[str, dict[str, int]] | None = None,
         walls: WallRules | None = None,
+        anchors: AnchorRules | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -320,6 +331,9 @@ class Placer:
         self.walls = walls
         """Which floor objects stand against a wall, and which wall first (None: none
         takes a wall anchor)."""
+        self.anchors = anchors
+        """How floor objects stand at their functional anchors (None: anywhere the model
+        draws them)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -391,6 +405,7 @@ class Placer:
         doors = (door_zones, _stack(door_zones))
         n = cfg.candidates * cfg.batches
         rejections = stats.rejections
+        framed = bool(getattr(self.model, "draws_in_frames", False))
 
         t0 = time.perf_counter()
         if assets is None:
@@ -430,18 +445,21 @@ class Placer:
             else:
                 sp = placed[item.support]
                 support = Anchor(sp.asset.category, sp.box, asset=sp.asset)
-            functional = None
+            functional = check = None
             if item.functional is not None and item.functional in placed:
                 fp = placed[item.functional]
                 functional = Anchor(fp.asset.category, fp.box, asset=fp.asset)
+                if item.support == FLOOR and cfg.anchors and self.anchors is not None and framed:
+                    check = self.anchors.check(node.category, fp.asset.category, fp.box,
+                                               asset_seed(node.id, seed))  # fmt: skip
             region = None
             if item.support == FLOOR and cfg.reject and cfg.confine:
                 region = floor_region(room, asset.size, cfg.floor_repair_m + cfg.wall_snap_m)
             query = PlacementQuery(node.category, asset.size, support, functional, bounds,
                                    asset=asset, region=region)  # fmt: skip
-            queries = [query]
+            queries = [(query, None)]
             if item.support == FLOOR:
-                queries = self._wall_queries(query, node, room, placed, seed) or queries
+                queries = self._wall_queries(query, node, room, placed, seed, check) or queries
             on_floor_ = item.support == FLOOR
             ref_yaw = 0.0 if on_floor_ else placed[item.support].box.yaw
             snap = cfg.snap_yaw_deg if on_floor_ else cfg.snap_yaw_support_deg
@@ -449,12 +467,13 @@ class Placer:
             ids = list(placed)  # fixed while this object's candidates are tried
             others = _stack([placed[i].box for i in ids])
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
-                               contact_rectangle(asset), guard)  # fmt: skip
+                               contact_rectangle(asset), guard, check)  # fmt: skip
             accepted = None
             own: dict[str, int] = {}
             tried = 0
-            for k, q in enumerate(queries):  # a wall at a time, each its share of the n
+            for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
+                context.wall = wall if framed else None
                 t0 = time.perf_counter()
                 boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
                 if k == 0 and region is not None and mass is not None:
@@ -511,9 +530,13 @@ class Placer:
         scene = Scene(scene_id, room, objects, source="pair2scene", stats=stats.to_dict())
         return Placement(scene, stats, {oid: p.asset for oid, p in placed.items()})
 
-    def _wall_queries(self, query, node, room: Room, placed: dict[str, _Placed], seed: int) -> list:
-        """``query`` once per wall to try, best first (:func:`wall_order`), when the wall
-        rules put this floor object against a wall and a wall has room for it; else []."""
+    def _wall_queries(
+        self, query, node, room: Room, placed: dict[str, _Placed], seed: int,
+        check: AnchorCheck | None = None,
+    ) -> list:  # fmt: skip
+        """(``query`` in a wall's frame, the wall) once per wall to try, best first
+        (:func:`wall_order`), when the wall rules put this floor object against a wall and
+        a wall has room for it; else []."""
         if self.walls is None or not self.config.walls:
             return []
         if not self.walls.against_wall(room.type, node.category, asset_seed(node.id, seed)):
@@ -529,8 +552,9 @@ class Placer:
         if query.functional is not None:
             anchor = query.functional.box
             distance = self.walls.distance(node.category, query.functional.category)
-        order = wall_order(walls, free, rng, anchor, distance)
-        return [replace(query, wall=walls[i].frame(room.height)) for i in order]
+        in_front = check is not None and check.in_front
+        order = wall_order(walls, free, rng, anchor, distance, in_front)
+        return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
     def _settle_candidate(
         self, box: OrientedBox, ctx: _Context
@@ -609,10 +633,18 @@ class Placer:
 
     def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list]:
         """Why a resting candidate cannot stay ("wall": an object on a support reaching
-        through a wall, "door", "collision") and what it hits (the doors' indices, the
-        objects' ids)."""
+        through a wall, "faces_away" / "not_in_front" / "far_from_anchor": not at its
+        functional anchor as the training rooms' pairs were, "off_wall": no longer against
+        the wall it was drawn against, "door", "collision",
+        "blocks_path") and what it hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
+        if ctx.anchor is not None:
+            reason = ctx.anchor.reason(box, ctx.wall)
+            if reason is not None:
+                return reason, []
+        if ctx.wall is not None and wall_contact(box, [ctx.wall]) is None:
+            return "off_wall", []  # pushed off the wall it was drawn against
         margin = self.config.tolerances.box_margin
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
         if ctx.support == FLOOR and ctx.doors[0]:
@@ -665,6 +697,10 @@ class _Context:
     contact: np.ndarray
     guard: FloorGuard | None = None
     """Keeps the floor navigable (None: not asked)."""
+    anchor: AnchorCheck | None = None
+    """Keeps the object at its functional anchor (None: no rule)."""
+    wall: Wall | None = None
+    """The wall the candidates are drawn against (None: no wall)."""
 
 
 def surface_fit(support: Asset, margin: float = 0.9):

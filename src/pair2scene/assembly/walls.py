@@ -132,15 +132,21 @@ def wall_order(
     rng: np.random.Generator,
     anchor: OrientedBox | None = None,
     distance: tuple[float, float] | None = None,
+    in_front: bool = False,
 ) -> list[int]:
     """Indices into ``walls`` to try, best first, among those with free length > 0.
 
     With a functional ``anchor`` and its learned ``distance`` (mean, std) from the
     dependent's wall: by how well the anchor's distance from each wall matches it.
     Otherwise a random order weighted by free length (longer free walls first, more
-    often).
+    often). ``in_front``: the object must stand where the anchor's front points (a TV
+    stand before its sofa), so only the walls the anchor faces (:func:`faced_by`) are
+    tried when it faces any with room (the placer splits its candidates among the walls
+    it tries: a wall behind the sofa would waste its share).
     """
     usable = [i for i, f in enumerate(free) if f > 0]
+    if anchor is not None and in_front:
+        usable = [i for i in usable if faced_by(walls[i], anchor)] or usable
     if not usable:
         return []
     keys = rng.random(len(usable)) ** (1.0 / np.array([free[i] for i in usable]))
@@ -151,5 +157,14 @@ def wall_order(
         for k, i in zip(keys, usable):
             d = float(walls[i].local(anchor.center[:2])[1])
             scores.append((-(((d - mean) / std) ** 2), k))
-        return [i for _, i in sorted(zip(scores, usable), key=lambda t: t[0], reverse=True)]
-    return [i for _, i in sorted(zip(keys, usable), reverse=True)]
+    else:
+        scores = [(0.0, k) for k in keys]
+    return [i for _, i in sorted(zip(scores, usable), key=lambda t: t[0], reverse=True)]
+
+
+def faced_by(wall: Wall, box: OrientedBox) -> bool:
+    """Whether ``box``'s front points at ``wall``: the wall's inward normal against the
+    front within 45 degrees."""
+    front = box.rotation[:2, 1]
+    norm = float(np.linalg.norm(front))
+    return bool(norm > 1e-9 and float(wall.normal @ front) / norm < -np.sqrt(0.5))

@@ -9,7 +9,12 @@
   the distribution of the number of placed objects per room;
 - per room type and floor category: how many stand on the floor and how many of those
   stand against a wall (:func:`~pair2scene.curation.tuples.wall_anchor`), from which
-  placement decides which objects take a wall as an anchor.
+  placement decides which objects take a wall as an anchor;
+- per (dependent, functional anchor) pair: how often the dependent faces its anchor and
+  how far their footprints stand apart (:mod:`pair2scene.scene.relations`), and how many
+  dependents stood beside an object of the anchor's category at all, from which the
+  hierarchy decides how often a chair gets a table when the room has one and placement
+  keeps chairs at their table, facing it.
 
 "Placed objects" are those that give relation tuples (pair2scene.curation.tuples):
 objects with a support that are neither structure nor parts. Statistics are plain
@@ -27,6 +32,7 @@ from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
+from pair2scene.scene.relations import faces, footprint, footprint_gap
 from pair2scene.scene.walls import walls_of
 
 STATS_FORMAT = "pair2scene.hierarchy_stats"
@@ -103,6 +109,14 @@ class RoomTypeStats:
         self.against_wall.update(other.against_wall)
 
 
+def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
+    """dependent -> anchor -> running sums, sorted and rounded for JSON."""
+    return {
+        d: {a: [round(v, 6) for v in acc] for a, acc in sorted(pa.items())}
+        for d, pa in sorted(table.items())
+    }
+
+
 def _layout_key(furniture: dict[str, int]) -> tuple[str, ...]:
     """{category: count} -> the sorted multiset :attr:`RoomTypeStats.layouts` is keyed by."""
     return tuple(sorted(c for c, n in furniture.items() for _ in range(int(n))))
@@ -132,6 +146,15 @@ class HierarchyStats:
     measured along that wall's inward normal: a nightstand's bed is about a bed's half
     length from the nightstand's wall, a TV stand's sofa a room's depth. Placement picks
     the wall of an object with both anchors by it."""
+    func_geometry: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+    """dependent category -> functional anchor category -> [n, facing, faced, sum, sum
+    of squares of the footprint gap (m)]: how many dependents face their anchor
+    (:func:`~pair2scene.scene.relations.faces`), how many stand where their anchor faces
+    them (a TV stand in front of its sofa) and how far apart they stand."""
+    func_present: dict[str, dict[str, Counter[str]]] = field(default_factory=dict)
+    """support category -> anchor category -> dependent category -> dependents on that
+    support in rooms where another object of the anchor category stands on the same
+    support: the denominator of "a chair takes the room's table as its anchor"."""
 
     # -- fitting ------------------------------------------------------------------
     @classmethod
@@ -161,6 +184,8 @@ class HierarchyStats:
             if func is not None:
                 per_support = self.func_dep.setdefault(anchor, {})
                 per_support.setdefault(func, Counter())[o.category] += 1
+                self._add_geometry(o, by_id[o.functional_anchor])
+        self._add_present(placed, cat_of)
         room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
         room.rooms += 1
         layout = tuple(sorted(o.category for o in placed if _is_template_member(o)))
@@ -182,6 +207,29 @@ class HierarchyStats:
                 acc[anchor.category] = [a + b for a, b in zip(acc[anchor.category], (1, d, d * d))]
         self.rooms += 1
 
+    def _add_geometry(self, dep: SceneObject, anchor: SceneObject) -> None:
+        gap = footprint_gap(footprint(dep.box), footprint(anchor.box))
+        acc = self.func_geometry.setdefault(dep.category, {})
+        old = acc.get(anchor.category, [0.0] * 5)
+        new = (1.0, float(faces(dep.box, anchor.box)), float(faces(anchor.box, dep.box)), gap,
+               gap * gap)  # fmt: skip
+        acc[anchor.category] = [a + b for a, b in zip(old, new)]
+
+    def _add_present(self, placed: list[SceneObject], cat_of) -> None:
+        by_support: dict[str, list[SceneObject]] = {}
+        for o in placed:
+            by_support.setdefault(o.support, []).append(o)
+        for support, group in by_support.items():
+            sup_cat = cat_of(support)
+            if sup_cat is None:
+                continue
+            cats = Counter(o.category for o in group)
+            per_support = self.func_present.setdefault(sup_cat, {})
+            for o in group:
+                for a, n in cats.items():
+                    if n - (a == o.category) > 0:  # another object of that category
+                        per_support.setdefault(a, Counter())[o.category] += 1
+
     @classmethod
     def merge(cls, parts: Iterable[HierarchyStats]) -> HierarchyStats:
         """The statistics of the union of the (disjoint) scene sets of ``parts``."""
@@ -196,11 +244,17 @@ class HierarchyStats:
                     dst.setdefault(func, Counter()).update(deps)
             for rtype, rs in p.room_types.items():
                 out.room_types.setdefault(rtype, RoomTypeStats()).add(rs)
-            for dep, per_anchor in p.wall_anchor.items():
-                dst = out.wall_anchor.setdefault(dep, {})
-                for anchor, acc in per_anchor.items():
-                    old = dst.get(anchor, [0.0, 0.0, 0.0])
-                    dst[anchor] = [a + b for a, b in zip(old, acc)]
+            for own, theirs in ((out.wall_anchor, p.wall_anchor),
+                                (out.func_geometry, p.func_geometry)):  # fmt: skip
+                for dep, per_anchor in theirs.items():
+                    dst = own.setdefault(dep, {})
+                    for anchor, acc in per_anchor.items():
+                        old = dst.get(anchor, [0.0] * len(acc))
+                        dst[anchor] = [a + b for a, b in zip(old, acc)]
+            for sup, per_anchor in p.func_present.items():
+                dst = out.func_present.setdefault(sup, {})
+                for anchor, deps in per_anchor.items():
+                    dst.setdefault(anchor, Counter()).update(deps)
         return out
 
     # -- queries ------------------------------------------------------------------
@@ -244,9 +298,11 @@ class HierarchyStats:
                 for s, pf in sorted(self.func_dep.items())
             },
             "room_types": room_types,
-            "wall_anchor": {
-                d: {a: [round(v, 6) for v in acc] for a, acc in sorted(pa.items())}
-                for d, pa in sorted(self.wall_anchor.items())
+            "wall_anchor": _sums(self.wall_anchor),
+            "func_geometry": _sums(self.func_geometry),
+            "func_present": {
+                s: {a: counts(d) for a, d in sorted(pa.items())}
+                for s, pa in sorted(self.func_present.items())
             },
         }
 
@@ -284,6 +340,12 @@ class HierarchyStats:
                 out.room_types[rtype] = rs
             for d, pa in doc.get("wall_anchor", {}).items():
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
+            for d, pa in doc.get("func_geometry", {}).items():
+                out.func_geometry[d] = {a: [float(v) for v in acc][:5] for a, acc in pa.items()}
+            for sup, pa in doc.get("func_present", {}).items():
+                out.func_present[sup] = {
+                    a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()
+                }
         except (KeyError, TypeError, ValueError, AttributeError) as e:
             raise UserError(f"{where}: malformed statistics ({type(e).__name__}: {e})") from None
         return out

@@ -162,14 +162,31 @@ class Statistics:
         self, support: str, category: str, siblings: list[Node], rng: np.random.Generator
     ) -> Node | None:
         """A functional anchor for a new ``category`` object among ``siblings`` on a
-        ``support`` category, drawn with the statistics' frequencies (or none)."""
+        ``support`` category, drawn with the statistics' frequencies (or none).
+
+        Whether it gets one at all is conditioned on what stands there: with ``r_a`` the
+        share of ``category`` objects that took an ``a`` as their anchor among those
+        beside an ``a`` in the training rooms, the chance is ``1 - prod(1 - r_a)`` over
+        the siblings' categories (a chair in a room with a dining table: 0.9 and more,
+        where the share over all chairs, tables or not, was 0.75). Statistics without
+        those counts fall back to the share over all ``category`` objects."""
         per_anchor = self.stats.func_dep.get(support, {})
         weights = [per_anchor.get(s.category, {}).get(category, 0) for s in siblings]
-        with_anchor = sum(per_anchor.get(a, {}).get(category, 0) for a in per_anchor)
-        placed = self.stats.sup_dep.get(support, {}).get(category, 0)
-        if not with_anchor or not placed or not any(weights):
+        if not any(weights):
             return None
-        if rng.random() >= min(1.0, with_anchor / placed):
+        present = self.stats.func_present.get(support, {})
+        if present:
+            miss = 1.0
+            for a in {s.category for s, w in zip(siblings, weights) if w}:
+                beside = present.get(a, {}).get(category, 0)
+                took = per_anchor.get(a, {}).get(category, 0)
+                miss *= 1.0 - min(1.0, took / beside) if beside else 1.0
+            chance = 1.0 - miss
+        else:
+            with_anchor = sum(per_anchor.get(a, {}).get(category, 0) for a in per_anchor)
+            placed = self.stats.sup_dep.get(support, {}).get(category, 0)
+            chance = min(1.0, with_anchor / placed) if placed else 0.0
+        if rng.random() >= chance:
             return None
         w = np.asarray(weights, dtype=float)
         return siblings[int(rng.choice(len(siblings), p=w / w.sum()))]

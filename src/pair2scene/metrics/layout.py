@@ -33,7 +33,13 @@ import numpy as np
 from pair2scene.categories import BY_NAME, SuperCategory
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
-from pair2scene.scene.navigation import footprint_polygon as footprint
+from pair2scene.scene.relations import (
+    FACING_MAX_DEG,
+    angle_to_footprint,
+    facing_angle,
+    footprint,
+    footprint_gap,
+)
 from pair2scene.scene.walls import against_wall, walls_of
 
 WALL_FURNITURE = (
@@ -62,10 +68,6 @@ FLOOR_TOLERANCE_M = 0.02
 """With no support known, an object whose bottom is this close to the floor stands on it."""
 TABLE_NEAR_M = 1.0
 """A chair with a table's footprint this close to its own (gap, m) is at that table."""
-FACING_MAX_DEG = 45.0
-"""An object faces a target when its +y is within this many degrees of the direction to
-the target: half of a right angle, so a chair set square to the table's side or end
-passes and one turned sideways (90 degrees) or away does not."""
 BED_SIDE_MARGIN_M = 0.1
 """A nightstand's centre must lie beyond the bed's side less this margin (it may overlap
 the bed's box a little: the box includes the overhang of a duvet)..."""
@@ -96,63 +98,6 @@ def on_floor(o: SceneObject, floor_z: float = 0.0) -> bool:
 
 def _floor_objects(scene: Scene) -> list[SceneObject]:
     return [o for o in scene.objects if _counted(o) and on_floor(o)]
-
-
-# -- geometry --------------------------------------------------------------------------
-def _closest_on_segments(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(M, 2) closest point to ``point`` (2,) on each segment a[i] -> b[i]."""
-    d = b - a
-    t = np.einsum("ij,ij->i", point - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-18)
-    return a + np.clip(t, 0.0, 1.0)[:, None] * d
-
-
-def _inside_convex(point: np.ndarray, poly: np.ndarray) -> bool:
-    """Whether ``point`` lies in the counter-clockwise convex polygon ``poly``."""
-    e = np.roll(poly, -1, axis=0) - poly
-    r = point - poly
-    return bool(np.all(e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0] >= -1e-12))
-
-
-def nearest_point(point: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """The point of the convex polygon ``poly`` (inside included) nearest to ``point``."""
-    point = np.asarray(point, float)
-    if _inside_convex(point, poly):
-        return point
-    near = _closest_on_segments(point, poly, np.roll(poly, -1, axis=0))
-    return near[np.argmin(np.linalg.norm(near - point, axis=1))]
-
-
-def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
-    """Distance between two convex polygons (counter-clockwise, (N, 2)); 0 when they
-    overlap."""
-    for p, q in ((a, b), (b, a)):  # separating axis: the edge normals of both
-        e = np.roll(p, -1, axis=0) - p
-        n = np.stack([e[:, 1], -e[:, 0]], axis=1)
-        if np.any((q @ n.T).min(axis=0) > np.einsum("ij,ij->i", p, n) + 1e-12):
-            break
-    else:
-        return 0.0
-    best = np.inf
-    for p, q in ((a, b), (b, a)):  # apart: the closest pair has a vertex of one of them
-        q1 = np.roll(q, -1, axis=0)
-        for v in p:
-            near = _closest_on_segments(v, q, q1)
-            best = min(best, float(np.linalg.norm(near - v, axis=1).min()))
-    return best
-
-
-def facing_angle(box: OrientedBox, target_xy: np.ndarray) -> float:
-    """Degrees between ``box``'s front (+y, seen from above) and the direction from its
-    centre to ``target_xy``; 0 when the target is at the centre itself."""
-    front = box.rotation[:2, 1]
-    to = np.asarray(target_xy, float) - box.center[:2]
-    nf, nt = float(np.linalg.norm(front)), float(np.linalg.norm(to))
-    if nt < 1e-9:
-        return 0.0
-    if nf < 1e-9:  # lying on its back: no front seen from above
-        return 180.0
-    cos = float(front @ to) / (nf * nt)
-    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
 
 
 def beside_bed_head(nightstand: OrientedBox, bed: OrientedBox) -> bool:
@@ -192,10 +137,7 @@ def chairs_facing_table(scene: Scene) -> list[int]:
         if gaps[k] > TABLE_NEAR_M:
             continue
         total += 1
-        target = nearest_point(chair.box.center[:2], tables[k])
-        if np.linalg.norm(target - chair.box.center[:2]) < 1e-9:  # under the table
-            target = tables[k].mean(axis=0)
-        facing += facing_angle(chair.box, target) < FACING_MAX_DEG
+        facing += angle_to_footprint(chair.box, tables[k]) < FACING_MAX_DEG
     return [facing, total]
 
 

@@ -158,6 +158,12 @@ class PlacementModel(Protocol):
     honours_temperature: bool
     """False for a sampler without modes to sharpen (the uniform baseline): the
     temperature then changes nothing, and generation says so in its notes."""
+    draws_in_frames: bool
+    """True when a query is drawn in its wall's or functional anchor's frame (anchor
+    frames), so placement may hold the candidates to that wall and anchor
+    (:class:`~pair2scene.assembly.anchors.AnchorRules`, ``off_wall``); False for the
+    uniform baseline and models without anchor frames, whose draws those tests would
+    nearly all reject."""
 
     def draw(
         self,
@@ -178,10 +184,13 @@ class LayoutModel:
     a :class:`PlacementModel`."""
 
     honours_temperature = True
+    draws_in_frames = True
+    """Whether this checkpoint has anchor frames (set per checkpoint when loaded)."""
 
     def __init__(self, checkpoint: Checkpoint) -> None:
         self.checkpoint = checkpoint
         self.predictor = checkpoint.predictor.eval()
+        self.draws_in_frames = self.predictor.uses_frames
         self._tokens: OrderedDict[bytes, tuple[torch.Tensor, torch.Tensor]] = OrderedDict()
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
         self._asset_clouds: OrderedDict[int, tuple[Asset, np.ndarray]] = OrderedDict()
