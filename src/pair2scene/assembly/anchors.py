@@ -18,7 +18,7 @@ object, the placer draws whether it faces its anchor and whether it stands in fr
 it (each with the learned share, seeded by the object's id and the scene seed) and
 rejects candidates that do not (``faces_away``, ``not_in_front``) or that stand farther
 from the anchor than the training rooms' pairs do (``far_from_anchor``,
-:attr:`PairRule.max_gap`; an across-the-room pair on the wall the anchor faces is
+:attr:`PairGeometry.max_gap`; an across-the-room pair on the wall the anchor faces is
 exempt, :meth:`AnchorCheck.reason`). An object none of whose candidates passes is
 dropped with the reason, as a chair with no room left at its table should be, rather than
 left elsewhere in the room.
@@ -51,7 +51,7 @@ _SALT = 19
 
 
 @dataclass(frozen=True)
-class PairRule:
+class PairGeometry:
     """What the training rooms did for one (dependent, functional anchor) pair."""
 
     n: int
@@ -103,22 +103,22 @@ class AnchorCheck:
 class AnchorRules:
     """Facing shares and gap spreads per (dependent, functional anchor) pair."""
 
-    pairs: dict[str, dict[str, PairRule]] = field(default_factory=dict)
+    pairs: dict[str, dict[str, PairGeometry]] = field(default_factory=dict)
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> AnchorRules:
-        pairs: dict[str, dict[str, PairRule]] = {}
+        pairs: dict[str, dict[str, PairGeometry]] = {}
         for dep, per_anchor in stats.func_geometry.items():
             for anchor, (n, facing, faced, total, squares) in per_anchor.items():
                 if n < MIN_PAIRS:
                     continue
                 mean = total / n
                 std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
-                rule = PairRule(int(n), facing / n, faced / n, mean, std)
+                rule = PairGeometry(int(n), facing / n, faced / n, mean, std)
                 pairs.setdefault(dep, {})[anchor] = rule
         return cls(pairs)
 
-    def rule(self, dependent: str, anchor: str) -> PairRule | None:
+    def rule(self, dependent: str, anchor: str) -> PairGeometry | None:
         return self.pairs.get(dependent, {}).get(anchor)
 
     def check(
