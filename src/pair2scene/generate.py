@@ -214,7 +214,8 @@ class Pair2Scene:
             furniture = sum(float(np.prod(assets[n.id].size[:2])) for n in hierarchy.nodes
                             if hierarchy.support[n.id] == FLOOR)  # fmt: skip
             room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]),
-                                 self.rooms, furniture)  # fmt: skip
+                                 self.rooms, furniture,
+                                 self.stats.room_type(hierarchy.room_type))  # fmt: skip
         else:
             room_obj = partial.room
             kept_assets = keep.assets

@@ -53,3 +53,57 @@ def test_rooms_are_drawn_large_enough_for_their_furniture():
     assert drawn == {20.0, 48.0}
     huge = make_room("bedroom", np.random.default_rng(0), table, 100.0)
     assert huge.area == pytest.approx(48.0)  # none is large enough: the largest
+
+
+def test_windows_are_drawn_as_the_statistics_have_them():
+    """Counts and shapes from the room type's statistics; each window on a wall, clear of
+    the corners, the door and the other windows, under the ceiling."""
+    from collections import Counter
+
+    from pair2scene.assembly.rooms import WINDOW_CORNER_GAP_M, WINDOW_GAP_M, draw_windows
+    from pair2scene.curation.stats import RoomTypeStats
+    from pair2scene.scene.walls import walls_of
+
+    rs = RoomTypeStats()
+    rs.window_counts = Counter({0: 1, 1: 2, 2: 1})
+    rs.window_shapes = Counter({(1.2, 0.9, 2.1): 1, (2.4, 0.5, 3.5): 1})  # the 2nd too tall
+    tall = 0
+    counts = []
+    for seed in range(200):
+        room = make_room("bedroom", np.random.default_rng(seed), stats=rs)
+        plain = make_room("bedroom", np.random.default_rng(seed))
+        assert np.allclose(room.floor_polygon, plain.floor_polygon)
+        assert room.doors == plain.doors and plain.windows == ()  # drawn after the rest
+        counts.append(len(room.windows))
+        walls = walls_of(room.floor_polygon)
+        spans = {}
+        for o in (*room.doors, *room.windows):
+            on = [w for w in walls if np.abs(w.local(np.array([o.p0, o.p1]))[:, 1]).max() < 1e-6]
+            assert len(on) == 1, o
+            x = np.sort(on[0].local(np.array([o.p0, o.p1]))[:, 0])
+            spans.setdefault(on[0].index, []).append((x, o.kind))
+            if o.kind == "window":
+                assert abs(x[1]) <= on[0].length / 2 - WINDOW_CORNER_GAP_M + 1e-6
+                assert 0.0 <= o.z_min < o.z_max <= room.height - 0.1 + 1e-9
+                assert o.width in (pytest.approx(1.2), pytest.approx(2.4))
+                if o.width > 2:  # moved down under the ceiling, its sill at most to the floor
+                    tall += 1
+                    assert o.z_max == pytest.approx(min(3.5, room.height - 0.1))
+                    assert o.z_min == pytest.approx(max(0.5 - (3.5 - o.z_max), 0.0))
+        for items in spans.values():
+            items.sort(key=lambda t: t[0][0])
+            for (a, _), (b, _) in zip(items, items[1:]):
+                assert b[0] - a[1] >= WINDOW_GAP_M - 1e-6
+    assert np.mean(counts) == pytest.approx(1.0, abs=0.15)  # (0 + 2 + 2) / 4
+    assert 0.35 < tall / sum(counts) < 0.65
+    assert (
+        draw_windows(
+            np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float),
+            2.7,
+            (),
+            rs.window_counts,
+            rs.window_shapes,
+            np.random.default_rng(0),
+        )
+        == ()
+    )

@@ -137,3 +137,19 @@ def test_statistics_without_joint_counts_still_load():
 def test_bad_json_is_a_user_error(text, message):
     with pytest.raises(UserError, match=message):
         HierarchyStats.from_json(text, "stats.json")
+
+
+def test_windows_per_room_and_their_shapes_are_counted():
+    from pair2scene.scene.model import Opening
+
+    s = scenes()
+    win = Opening("window", (4.0, 1.0), (4.0, 2.2), 0.9, 2.1)
+    s[0] = Scene(s[0].id, Room("bedroom", ROOM, windows=(win, win)), s[0].objects)
+    stats = HierarchyStats.fit(s)
+    rs = stats.room_types["bedroom"]
+    assert rs.window_counts == {2: 1, 0: 1}
+    assert rs.window_shapes == {(1.2, 0.9, 2.1): 2}
+    back = HierarchyStats.from_json(stats.to_json()).room_types["bedroom"]
+    assert back.window_counts == rs.window_counts and back.window_shapes == rs.window_shapes
+    pooled = stats.room_type("office")  # no office in training: every room type pooled
+    assert pooled.window_counts == {2: 1, 0: 2} and pooled.rooms == 3

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -81,3 +83,23 @@ def test_a_summary_in_another_shape_is_one_line(tmp_path):
 
 def test_every_scene_file_has_one_exporter():
     assert list(SCENE_FILES) == ["scene.json", "scene.glb", "bev.png"]
+
+
+def test_windows_are_cut_into_their_wall_with_a_pane_and_marked_in_the_top_view():
+    from pair2scene.io.scene_meshes import WALL_RGB, WINDOW_RGB, room_color
+    from pair2scene.scene.model import Opening
+
+    scene, _ = small_scene()
+    window = Opening("window", (1.0, 3.0), (2.5, 3.0), 0.8, 2.0, "window_0")
+    room = replace(scene.room, windows=(window,))
+    pieces = dict(room_meshes(room))
+    at = {n: m for n, m in pieces.items() if n.startswith("window_")}
+    assert len(at) == 3  # the wall under the sill, the lintel, the pane
+    (pane,) = [m for n, m in at.items() if n.endswith("_pane")]
+    np.testing.assert_allclose(pane.bounds[:, 2], [0.8, 2.0])
+    np.testing.assert_allclose(sorted(pane.bounds[:, 0]), [1.0, 2.5])
+    sill, lintel = sorted((m for n, m in at.items() if not n.endswith("_pane")),
+                          key=lambda m: m.bounds[0, 2])  # fmt: skip
+    assert sill.bounds[1, 2] == pytest.approx(0.8) and lintel.bounds[0, 2] == pytest.approx(2.0)
+    assert room_color("window_2_1_pane") == WINDOW_RGB == room_color("window_2_1", top_view=True)
+    assert room_color("window_2_1") == WALL_RGB == room_color("wall_0_0", top_view=True)

@@ -1,23 +1,34 @@
-"""Rooms to generate into: sizes per room type from the training rooms, a door, a floor.
+"""Rooms to generate into: sizes per room type from the training rooms, a door, windows,
+a floor.
 
 :class:`RoomTable` keeps the bounds (width, depth, height) of every training room per
 type, from the support boxes of a 3D-Pairs folder's floor tuples (3D-Pairs keeps a room's
-bounds, not its polygon, so generated rooms are rectangles). :func:`make_room` draws one
-and puts a door on one of its walls. The table of the AI2-THOR + ProcTHOR-1k train rooms
-ships with the package (``resources/rooms.json``).
+bounds, not its polygon, so generated rooms are rectangles). :func:`make_room` draws one,
+puts a door on one of its walls and, given the hierarchy statistics of its room type,
+windows as the training rooms have them (:func:`draw_windows`: how many, and each one's
+width, sill and top, drawn from the rooms' own; ProcTHOR-1k val: 1.0-1.4 windows a room).
+The table of the AI2-THOR + ProcTHOR-1k train rooms ships with the package
+(``resources/rooms.json``).
 """
 
 from __future__ import annotations
 
 import json
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pair2scene.assembly.sizes import read_size_arrays
+from pair2scene.assembly.walls import intervals_minus
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.scene.model import FLOOR, Opening, Room
+from pair2scene.scene.walls import walls_of
+
+if TYPE_CHECKING:
+    from pair2scene.curation.stats import RoomTypeStats
 
 ROOMS_FORMAT = "pair2scene.rooms"
 ROOMS_VERSION = 1
@@ -25,6 +36,13 @@ DOOR_WIDTH_M = 0.9
 DOOR_HEIGHT_M = 2.1
 DOOR_CORNER_GAP_M = 0.2
 """A door's edge stays this far from the room's corners (a frame needs the wall)."""
+WINDOW_CORNER_GAP_M = 0.3
+"""A window's edge stays this far from the room's corners..."""
+WINDOW_GAP_M = 0.3
+"""... and from a door's or another window's edge."""
+CEILING_GAP_M = 0.1
+"""A window drawn taller than its room is moved down to end this far below the ceiling
+(its sill no lower than the floor: a floor-to-ceiling window)."""
 FALLBACK_SIZE = (4.0, 4.0, 2.7)
 """A room type nobody trained on, when the table is empty: a 4 m square room."""
 MAX_FLOOR_SHARE = 0.4
@@ -91,10 +109,13 @@ def make_room(
     rng: np.random.Generator,
     table: RoomTable | None = None,
     furniture_m2: float = 0.0,
+    stats: RoomTypeStats | None = None,
 ) -> Room:
     """A rectangular room of a training room's size, with room for ``furniture_m2`` of
-    floor furniture footprint (:data:`MAX_FLOOR_SHARE`), and one door on a random wall;
-    the floor spans [0, width] x [0, depth]."""
+    floor furniture footprint (:data:`MAX_FLOOR_SHARE`), one door on a random wall and
+    the windows of :func:`draw_windows` (none without ``stats``); the floor spans
+    [0, width] x [0, depth]. The windows are drawn after the rest, so a room's size and
+    door do not depend on them."""
     table = RoomTable.load() if table is None else table
     w, d, h = table.draw(room_type, rng, furniture_m2 / MAX_FLOOR_SHARE)
     polygon = np.array([[0.0, 0.0], [w, 0.0], [w, d], [0.0, d]])
@@ -109,4 +130,64 @@ def make_room(
         p0, p1 = a + u * start, a + u * (start + DOOR_WIDTH_M)
         ends = (float(p0[0]), float(p0[1])), (float(p1[0]), float(p1[1]))
         doors = (Opening("door", *ends, 0.0, min(DOOR_HEIGHT_M, float(h)), "door_0"),)
-    return Room(room_type, polygon, float(h), doors)
+    windows = ()
+    if stats is not None:
+        windows = draw_windows(polygon, float(h), doors, stats.window_counts,
+                               stats.window_shapes, rng)  # fmt: skip
+    return Room(room_type, polygon, float(h), doors, windows)
+
+
+def _draw(counter: Counter, rng: np.random.Generator):
+    keys = sorted(counter)
+    w = np.array([counter[k] for k in keys], dtype=float)
+    return keys[int(rng.choice(len(keys), p=w / w.sum()))]
+
+
+def draw_windows(
+    polygon: np.ndarray,
+    height: float,
+    doors: tuple[Opening, ...],
+    counts: Counter[int],
+    shapes: Counter[tuple[float, float, float]],
+    rng: np.random.Generator,
+) -> tuple[Opening, ...]:
+    """Windows for a room: their number drawn from ``counts`` (windows a room -> rooms),
+    each one's (width, sill, top) from ``shapes``, on a wall with a free stretch that wide
+    (:data:`WINDOW_CORNER_GAP_M` from the corners, :data:`WINDOW_GAP_M` from doors and the
+    other windows), the wall weighted by its free length and the window uniform along
+    the stretch. A window with no wall left for it is not placed."""
+    if not counts or not shapes:
+        return ()
+    walls = walls_of(np.asarray(polygon, float))
+    taken: list[list[tuple[float, float]]] = [[] for _ in walls]  # (lo, hi) from the midpoint
+    for door in doors:
+        for i, wall in enumerate(walls):
+            ends = wall.local(np.array([door.p0, door.p1], float))
+            if np.abs(ends[:, 1]).max() <= 0.05:
+                taken[i].append((ends[:, 0].min(), ends[:, 0].max()))
+    out: list[Opening] = []
+    for k in range(int(_draw(counts, rng))):
+        width, sill, top = _draw(shapes, rng)
+        if top > height - CEILING_GAP_M:  # a taller room's window: moved down
+            sill, top = max(sill - (top - (height - CEILING_GAP_M)), 0.0), height - CEILING_GAP_M
+        if top <= sill:
+            continue
+        free = []
+        for i, wall in enumerate(walls):
+            half = wall.length / 2 - WINDOW_CORNER_GAP_M
+            stretches = [(-half, half)] if half > 0 else []
+            for lo, hi in taken[i]:
+                stretches = intervals_minus(stretches, lo - WINDOW_GAP_M, hi + WINDOW_GAP_M)
+            free += [(i, a, b) for a, b in stretches if b - a >= width]
+        if not free:
+            continue
+        spare = np.array([b - a - width for _, a, b in free]) + 1e-6
+        i, a, b = free[int(rng.choice(len(free), p=spare / spare.sum()))]
+        start = float(rng.uniform(a, b - width))
+        wall = walls[i]
+        p0 = wall.midpoint + wall.direction * start
+        p1 = wall.midpoint + wall.direction * (start + width)
+        taken[i].append((start, start + width))
+        ends = (float(p0[0]), float(p0[1])), (float(p1[0]), float(p1[1]))
+        out.append(Opening("window", *ends, float(sill), float(top), f"window_{k}"))
+    return tuple(out)

@@ -79,7 +79,8 @@ class WallRules:
         return self.distances.get(dependent, {}).get(anchor)
 
 
-def _intervals_minus(free: list[tuple[float, float]], lo: float, hi: float):
+def intervals_minus(free: list[tuple[float, float]], lo: float, hi: float):
+    """The intervals ``free`` with (lo, hi) taken out."""
     out = []
     for a, b in free:
         if hi <= a or lo >= b:
@@ -112,12 +113,12 @@ def free_stretches(
         if np.abs(ends[:, 1]).max() > 0.05:  # not on this wall
             continue
         margin = DOOR_MARGIN_M if opening.kind == "door" else 0.0
-        free = _intervals_minus(free, ends[:, 0].min() - margin, ends[:, 0].max() + margin)
+        free = intervals_minus(free, ends[:, 0].min() - margin, ends[:, 0].max() + margin)
     for box in placed:
         corners = wall.local(box.corners()[:, :2])
         if corners[:, 1].min() > depth or corners[:, 1].max() < -0.05:
             continue
-        free = _intervals_minus(free, corners[:, 0].min(), corners[:, 0].max())
+        free = intervals_minus(free, corners[:, 0].min(), corners[:, 0].max())
     return free
 
 

@@ -10,6 +10,8 @@
 - per room type and floor category: how many stand on the floor and how many of those
   stand against a wall (:func:`~pair2scene.curation.tuples.wall_anchor`), from which
   placement decides which objects take a wall as an anchor;
+- per room type: how many windows a room has, and their shapes (width, sill, top), from
+  which generated rooms get their windows (:func:`pair2scene.assembly.rooms.make_room`);
 - per (dependent, functional anchor) pair: how often the dependent faces its anchor and
   how far their footprints stand apart (:mod:`pair2scene.scene.relations`), and how many
   dependents stood beside an object of the anchor's category at all, from which the
@@ -76,6 +78,12 @@ class RoomTypeStats:
     against_wall: Counter[str] = field(default_factory=Counter)
     """Category -> of those, how many stand against a wall. Empty in statistics written
     before it was kept (then no object takes a wall anchor)."""
+    window_counts: Counter[int] = field(default_factory=Counter)
+    """Windows in a room -> number of rooms. Empty in statistics written before it was
+    kept (then generated rooms have no windows)."""
+    window_shapes: Counter[tuple[float, float, float]] = field(default_factory=Counter)
+    """(width, sill height, top height) of a window, metres to the centimetre -> how many
+    windows had it."""
 
     def wall_rate(self, category: str, prior: float = 1.0) -> float:
         """Share of ``category``'s floor objects that stand against a wall, with ``prior``
@@ -107,6 +115,8 @@ class RoomTypeStats:
         self.layout_counts.update(other.layout_counts)
         self.on_floor.update(other.on_floor)
         self.against_wall.update(other.against_wall)
+        self.window_counts.update(other.window_counts)
+        self.window_shapes.update(other.window_shapes)
 
 
 def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
@@ -192,6 +202,10 @@ class HierarchyStats:
         room.layouts[layout] += 1
         room.object_counts[len(placed)] += 1
         room.layout_counts[layout, len(placed)] += 1
+        room.window_counts[len(scene.room.windows)] += 1
+        for w in scene.room.windows:
+            shape = (w.width, max(w.z_min, 0.0), w.z_max)
+            room.window_shapes[tuple(round(float(v), 2) for v in shape)] += 1
         walls = walls_of(scene.room.floor_polygon)
         for o in placed:
             if o.support != FLOOR:
@@ -258,6 +272,17 @@ class HierarchyStats:
         return out
 
     # -- queries ------------------------------------------------------------------
+    def room_type(self, room_type: str) -> RoomTypeStats:
+        """The statistics of ``room_type``; of every room type pooled when no training
+        room had it (an office described in text gets the windows of rooms in general)."""
+        rs = self.room_types.get(room_type)
+        if rs is not None:
+            return rs
+        pooled = RoomTypeStats()
+        for other in self.room_types.values():
+            pooled.add(other)
+        return pooled
+
     def templates(self, room_type: str, top: int | None = None) -> list[tuple[dict[str, int], int]]:
         """Most frequent furniture multisets of ``room_type`` (see RoomTypeStats.templates)."""
         rs = self.room_types.get(room_type)
@@ -286,6 +311,8 @@ class HierarchyStats:
                     cat: {"on_floor": n, "against_wall": rs.against_wall.get(cat, 0)}
                     for cat, n in sorted(rs.on_floor.items())
                 },
+                "window_counts": counts(rs.window_counts),
+                "window_shapes": [[*k, n] for k, n in sorted(rs.window_shapes.items())],
             }
         return {
             "format": STATS_FORMAT,
@@ -337,6 +364,10 @@ class HierarchyStats:
                 for cat, w in rd.get("walls", {}).items():
                     rs.on_floor[cat] = int(w["on_floor"])
                     rs.against_wall[cat] = int(w["against_wall"])
+                for k, v in rd.get("window_counts", {}).items():
+                    rs.window_counts[int(k)] = int(v)
+                for width, sill, top, n in rd.get("window_shapes", []):
+                    rs.window_shapes[float(width), float(sill), float(top)] += int(n)
                 out.room_types[rtype] = rs
             for d, pa in doc.get("wall_anchor", {}).items():
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}

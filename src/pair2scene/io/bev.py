@@ -9,10 +9,9 @@ import numpy as np
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.io.scene_meshes import (
-    FLOOR_RGB,
-    WALL_RGB,
     WALL_THICKNESS_M,
     object_meshes,
+    room_color,
     room_meshes,
     semantic_color,
 )
@@ -32,7 +31,7 @@ def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE):
     objs = object_meshes(scene, assets)
     # Draw low objects last so what rests on furniture shows on top of it in the view.
     meshes = [m for _, m in walls] + [m for _, _, m in objs]
-    colors = [FLOOR_RGB if n == "floor" else WALL_RGB for n, _ in walls]
+    colors = [room_color(n, top_view=True) for n, _ in walls]
     colors += [semantic_color(c) for _, c, _ in objs]
     b = scene.room.bounds
     lo, hi = b.center - b.half_size, b.center + b.half_size

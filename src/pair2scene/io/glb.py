@@ -1,6 +1,6 @@
 """``scene.glb``: the placed scene as binary glTF, one node per object named by its id
 (its asset's mesh in world coordinates, z up as everywhere in pair2scene), plus ``floor``
-and ``wall_<i>_<j>`` nodes."""
+, ``wall_<i>_<j>`` and ``window_<i>_<j>[_pane]`` nodes (:func:`room_meshes`)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,8 @@ import numpy as np
 
 from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.io.scene_meshes import (
-    FLOOR_RGB,
-    WALL_RGB,
     object_meshes,
+    room_color,
     room_meshes,
     semantic_color,
 )
@@ -23,7 +22,7 @@ def glb_bytes(scene: Scene, assets: dict[str, Asset]) -> bytes:
 
     tscene = trimesh.Scene()
     for name, mesh in room_meshes(scene.room):
-        rgb = FLOOR_RGB if name == "floor" else WALL_RGB
+        rgb = room_color(name)
         tscene.add_geometry(_trimesh(mesh, rgb), node_name=name, geom_name=name)
     for oid, category, mesh in object_meshes(scene, assets):
         tscene.add_geometry(_trimesh(mesh, semantic_color(category)), node_name=oid, geom_name=oid)

@@ -1,8 +1,8 @@
 """The one description of a placed scene that every export format draws on: each object's
-world mesh (its asset posed by its box), the room's floor slab and walls (door openings
-left free), and the semantic colour of a category (one hue family per super-category, a
-shade per category). Formats (:mod:`pair2scene.io.glb`, :mod:`pair2scene.io.bev`...) share
-this, never each other's internals.
+world mesh (its asset posed by its box), the room's floor slab, walls (door and window
+openings left free) and window panes, and the semantic colour of a category (one hue
+family per super-category, a shade per category). Formats (:mod:`pair2scene.io.glb`,
+:mod:`pair2scene.io.bev`...) share this, never each other's internals.
 """
 
 from __future__ import annotations
@@ -30,6 +30,19 @@ SUPER_HUES = {
 fixtures); categories vary in lightness and saturation within their family."""
 FLOOR_RGB = (232, 228, 220)
 WALL_RGB = (90, 90, 90)
+WINDOW_RGB = (120, 190, 235)
+"""Window panes; in the top view also the wall above and below a window, so a window shows
+as a light-blue mark along its wall as a door shows as a gap."""
+
+
+def room_color(name: str, top_view: bool = False) -> tuple[int, int, int]:
+    """The colour of a :func:`room_meshes` piece: the floor, a window's pane (and, seen
+    from above, the wall above and below it: ``window_*``), or wall."""
+    if name == "floor":
+        return FLOOR_RGB
+    if name.endswith("_pane") or (top_view and name.startswith("window_")):
+        return WINDOW_RGB
+    return WALL_RGB
 
 
 def semantic_color(category: str) -> tuple[int, int, int]:
@@ -55,7 +68,9 @@ def object_meshes(scene: Scene, assets: dict) -> list[tuple[str, str, Mesh]]:
 
 
 def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
-    """The floor slab under z = 0 and one wall per polygon edge, door openings left free."""
+    """The floor slab under z = 0 and one wall per polygon edge, door and window openings
+    left free: ``floor``, ``wall_<edge>_<piece>``, the wall below and above each window
+    ``window_<edge>_<piece>`` and its glass ``window_<edge>_<piece>_pane``."""
     poly = np.asarray(room.floor_polygon, dtype=float)
     lo, hi = poly.min(0), poly.max(0)
     t = WALL_THICKNESS_M
@@ -72,23 +87,38 @@ def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
             continue
         u = (b - a) / length
         normal = np.array([u[1], -u[0]])  # outward for a counter-clockwise polygon
-        cuts = []  # (start, end, door top) along the edge
-        for door in room.doors:
-            p0, p1 = np.asarray(door.p0, float), np.asarray(door.p1, float)
+        cuts = []  # (start, end, bottom, top, kind) of each opening along the edge
+        for opening in (*room.doors, *room.windows):
+            p0, p1 = np.asarray(opening.p0, float), np.asarray(opening.p1, float)
             s0, s1 = sorted(((p0 - a) @ u, (p1 - a) @ u))
             off = max(abs((p0 - a) @ normal), abs((p1 - a) @ normal))
             if off < 1e-3 and s1 > 0 and s0 < length:
-                cuts.append((max(s0, 0.0), min(s1, length), door.z_max))
-        spans, at = [], 0.0
-        for s0, s1, top in sorted(cuts):
-            spans.append((at, s0, 0.0, room.height))
-            spans.append((s0, s1, top, room.height))  # the lintel above the door
+                bottom = 0.0 if opening.kind == "door" else max(opening.z_min, 0.0)
+                cuts.append((max(s0, 0.0), min(s1, length), bottom, opening.z_max, opening.kind))
+        spans, at = [], 0.0  # (start, end, bottom, top, name prefix)
+        for s0, s1, bottom, top, kind in sorted(cuts):
+            s0 = max(s0, at)  # (overlapping openings: the first one's cut holds)
+            if s1 <= s0:
+                continue
+            prefix = "wall" if kind == "door" else "window"
+            spans.append((at, s0, 0.0, room.height, "wall"))
+            spans.append((s0, s1, 0.0, bottom, prefix))  # the wall under a window's sill
+            spans.append((s0, s1, top, room.height, prefix))  # the lintel above it
+            if kind == "window":
+                spans.append((s0, s1, bottom, top, "pane"))
             at = s1
-        spans.append((at, length, 0.0, room.height))
+        spans.append((at, length, 0.0, room.height, "wall"))
         yaw_rot = np.array([[u[0], -u[1], 0.0], [u[1], u[0], 0.0], [0.0, 0.0, 1.0]])
-        for j, (s0, s1, z0, z1) in enumerate(
-            s for s in spans if s[1] - s[0] > 1e-6 and s[3] > s[2]
-        ):
-            local = box_between([s0, 0.0, z0], [s1, t, z1])
-            out.append((f"wall_{i}_{j}", local.transformed(yaw_rot, [a[0], a[1], 0.0])))
+        j = 0
+        for s0, s1, z0, z1, prefix in spans:
+            if s1 - s0 <= 1e-6 or z1 <= z0:
+                continue
+            if prefix == "pane":  # thin glass in the middle of the wall
+                local = box_between([s0, 0.45 * t, z0], [s1, 0.55 * t, z1])
+                name = f"window_{i}_{j}_pane"
+            else:
+                local = box_between([s0, 0.0, z0], [s1, t, z1])
+                name = f"{prefix}_{i}_{j}"
+            out.append((name, local.transformed(yaw_rot, [a[0], a[1], 0.0])))
+            j += 1
     return out
