@@ -126,9 +126,11 @@ LAYOUT = (
     ("navigation", "rooms_reachable_0.97", "rooms >= 0.97"),
     ("navigation", "objects_reachable", "fronts reachable"),
     ("navigation", "doors_clear", "doors clear"),
+    ("walls", "wall_objects_per_room", "wall objects / room"),
+    ("walls", "windows_per_room", "windows / room"),
 )
-"""The realism measures real rooms get too (evaluate's ``layout`` and ``navigation``
-sections): one table per room type, the reference rooms first."""
+"""The realism measures real rooms get too (evaluate's ``layout``, ``navigation`` and
+``walls`` sections): one table per room type, the reference rooms first."""
 
 
 def _rate(stat: dict | None) -> str:
@@ -235,8 +237,9 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         if realism:
             lines += [
                 "Realism measures, computed alike for the real rooms and every method "
-                "(`pair2scene evaluate`'s layout and navigation sections; rates, and "
-                "the mean reachable share of the free floor):",
+                "(`pair2scene evaluate`'s layout, navigation and walls sections; rates, "
+                "the mean reachable share of the free floor, and wall objects and windows "
+                "per room):",
                 "",
                 *realism,
                 "",

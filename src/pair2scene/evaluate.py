@@ -19,8 +19,11 @@ process figures are then missing). The report has, at the top level:
 Beside these, one section per entry of :data:`SECTIONS`, each a table of measures that
 real rooms get too, side by side: ``layout`` (:mod:`pair2scene.metrics.layout`: furniture
 against walls, chairs facing their table, sofas facing the TV, nightstands at the bed's
-head), as ``{measure: {"generated": stat, "reference": stat}}`` with ``stat`` = ``{"rate",
-"count": [numerator, denominator], "rooms"}`` (rooms it was measurable in).
+head), ``navigation`` (:mod:`pair2scene.scene.navigation`: reachable floor, fronts and
+doors) and ``walls`` (:mod:`pair2scene.metrics.wall_objects`: wall objects and windows
+per room, each wall category's share), as ``{measure: {"generated": stat, "reference":
+stat}}`` with ``stat`` = ``{"rate", "count": [numerator, denominator], "rooms"}`` (rooms
+it was measurable in).
 
 The reference is filtered to the room types of the generated scenes. Per-scene physics
 is cached beside the report (``<out>.cache.json``, keyed by each scene.json's digest),
@@ -284,10 +287,17 @@ def _navigation(reference: Sequence[Scene], generated: Sequence[Scene]) -> dict:
     return out
 
 
+def _walls(reference: Sequence[Scene], generated: Sequence[Scene]) -> dict:
+    from pair2scene.metrics.wall_objects import wall_section
+
+    return wall_section(reference, generated)
+
+
 Section = Callable[[Sequence[Scene], Sequence[Scene]], dict]
 SECTIONS: dict[str, Section] = {
     "layout": _layout,
     "navigation": _navigation,
+    "walls": _walls,
 }
 """The report's sections of side-by-side measures: name -> function(reference, generated)
 giving ``{measure: {"generated": stat, "reference": stat}}`` (other entries are details
