@@ -17,18 +17,15 @@ import json
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pair2scene.assembly.sizes import read_size_arrays
 from pair2scene.assembly.walls import intervals_minus
+from pair2scene.curation.stats import RoomTypeStats, draw_counted
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.scene.model import FLOOR, Opening, Room
 from pair2scene.scene.walls import walls_of
-
-if TYPE_CHECKING:
-    from pair2scene.curation.stats import RoomTypeStats
 
 ROOMS_FORMAT = "pair2scene.rooms"
 ROOMS_VERSION = 1
@@ -137,12 +134,6 @@ def make_room(
     return Room(room_type, polygon, float(h), doors, windows)
 
 
-def _draw(counter: Counter, rng: np.random.Generator):
-    keys = sorted(counter)
-    w = np.array([counter[k] for k in keys], dtype=float)
-    return keys[int(rng.choice(len(keys), p=w / w.sum()))]
-
-
 def draw_windows(
     polygon: np.ndarray,
     height: float,
@@ -162,12 +153,12 @@ def draw_windows(
     taken: list[list[tuple[float, float]]] = [[] for _ in walls]  # (lo, hi) from the midpoint
     for door in doors:
         for i, wall in enumerate(walls):
-            ends = wall.local(np.array([door.p0, door.p1], float))
-            if np.abs(ends[:, 1]).max() <= 0.05:
-                taken[i].append((ends[:, 0].min(), ends[:, 0].max()))
+            span = wall.span(door.p0, door.p1)
+            if span is not None:
+                taken[i].append(span)
     out: list[Opening] = []
-    for k in range(int(_draw(counts, rng))):
-        width, sill, top = _draw(shapes, rng)
+    for k in range(int(draw_counted(counts, rng))):
+        width, sill, top = draw_counted(shapes, rng)
         if top > height - CEILING_GAP_M:  # a taller room's window: moved down
             sill, top = max(sill - (top - (height - CEILING_GAP_M)), 0.0), height - CEILING_GAP_M
         if top <= sill:

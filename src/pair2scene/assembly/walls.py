@@ -109,11 +109,11 @@ def free_stretches(
     for opening in (*room.doors, *room.windows):
         if opening.kind == "window" and opening.z_min >= height:
             continue
-        ends = wall.local(np.array([opening.p0, opening.p1], float))
-        if np.abs(ends[:, 1]).max() > 0.05:  # not on this wall
+        span = wall.span(opening.p0, opening.p1)
+        if span is None:  # not on this wall
             continue
         margin = DOOR_MARGIN_M if opening.kind == "door" else 0.0
-        free = intervals_minus(free, ends[:, 0].min() - margin, ends[:, 0].max() + margin)
+        free = intervals_minus(free, span[0] - margin, span[1] + margin)
     for box in placed:
         corners = wall.local(box.corners()[:, :2])
         if corners[:, 1].min() > depth or corners[:, 1].max() < -0.05:

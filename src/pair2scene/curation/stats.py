@@ -30,6 +30,8 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
@@ -54,6 +56,14 @@ def is_placed(obj: SceneObject) -> bool:
         and obj.super not in SKIPPED_SUPER_CATEGORIES
         and obj.part_of is None
     )
+
+
+def draw_counted(counter: Counter, rng: np.random.Generator):
+    """A key of ``counter`` drawn with probability proportional to its count (keys taken
+    in sorted order, so equal seeds draw equal keys)."""
+    keys = sorted(counter)
+    w = np.array([counter[k] for k in keys], dtype=float)
+    return keys[int(rng.choice(len(keys), p=w / w.sum()))]
 
 
 def _is_template_member(obj: SceneObject) -> bool:

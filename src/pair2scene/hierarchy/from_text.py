@@ -25,12 +25,11 @@ from dataclasses import replace
 import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import HierarchyStats
+from pair2scene.curation.stats import HierarchyStats, draw_counted
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
     Statistics,
     SynthesisConfig,
-    _draw,
     add_floor_furniture,
     expand,
     extra_furniture,
@@ -113,7 +112,7 @@ def hierarchy_from_spec(
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)
         with_key = Counter({k: v for k, v in rs.layouts.items() if key in k}) or rs.layouts
-        template = [c for c in _draw(with_key, rng) if c not in named]
+        template = [c for c in draw_counted(with_key, rng) if c not in named]
         if config.max_objects is not None:
             asked = sum(min(m.count, MAX_COUNT) for m in spec.mentions)
             template = template[: max(0, config.max_objects - asked)]
@@ -166,7 +165,7 @@ def hierarchy_from_spec(
             extra = extra_furniture(st, rs, target, [n.category for n in h.nodes], rng)
             add_floor_furniture(h, [c for c in extra if c not in named], st, rng)
     elif rs is not None:
-        target = int(_draw(rs.object_counts, rng))
+        target = int(draw_counted(rs.object_counts, rng))
     else:  # a room the statistics do not know: the named objects and their dependents
         target = len(h) + sum(
             round(sum(rate for _, rate in st.dependents(n.category))) for n in h.nodes

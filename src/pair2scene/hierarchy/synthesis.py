@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.categories import BY_NAME
-from pair2scene.curation.stats import HierarchyStats
+from pair2scene.curation.stats import HierarchyStats, draw_counted
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import NOT_OBJECTS, Hierarchy, Node
 from pair2scene.resources import load_table, table_path
@@ -192,12 +192,6 @@ class Statistics:
         return siblings[int(rng.choice(len(siblings), p=w / w.sum()))]
 
 
-def _draw(counter: Counter, rng: np.random.Generator):
-    keys = sorted(counter)
-    w = np.array([counter[k] for k in keys], dtype=float)
-    return keys[int(rng.choice(len(keys), p=w / w.sum()))]
-
-
 def _stochastic_round(x: float, rng: np.random.Generator) -> int:
     whole = int(np.floor(x))
     return whole + int(rng.random() < x - whole)
@@ -311,14 +305,14 @@ def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
     """A furnished training room's template and (``with_count``) object count."""
     joint = Counter({k: v for k, v in rs.layout_counts.items() if k[0]})
     if with_count and joint:
-        layout, count = _draw(joint, rng)
+        layout, count = draw_counted(joint, rng)
         return list(layout), int(count)
-    template = list(_draw(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
+    template = list(draw_counted(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
                           rng))  # fmt: skip
     if not with_count:
         return template, 0
     counts = Counter({k: v for k, v in rs.object_counts.items() if k >= len(template)})
-    return template, int(_draw(counts or rs.object_counts, rng))
+    return template, int(draw_counted(counts or rs.object_counts, rng))
 
 
 def extra_furniture(
@@ -337,7 +331,7 @@ def extra_furniture(
     carried = sum(1 + capacity(st, c, load) for c in have)
     extra: list[str] = []
     while pool and carried < target and len(have) + len(extra) < target:
-        cat = _draw(pool, rng)
+        cat = draw_counted(pool, rng)
         extra.append(cat)
         carried += 1 + capacity(st, cat, load)
     return extra

@@ -83,7 +83,8 @@ _SKIPPED = (SuperCategory.STRUCTURE, SuperCategory.PART)
 
 
 # -- which objects ---------------------------------------------------------------------
-def _counted(o: SceneObject) -> bool:
+def counted(o: SceneObject) -> bool:
+    """Whether ``o`` takes part in the measures: not structure, not a part of furniture."""
     cat = BY_NAME.get(o.category)
     return o.part_of is None and (cat is None or cat.super not in _SKIPPED)
 
@@ -97,7 +98,7 @@ def on_floor(o: SceneObject, floor_z: float = 0.0) -> bool:
 
 
 def _floor_objects(scene: Scene) -> list[SceneObject]:
-    return [o for o in scene.objects if _counted(o) and on_floor(o)]
+    return [o for o in scene.objects if counted(o) and on_floor(o)]
 
 
 def beside_bed_head(nightstand: OrientedBox, bed: OrientedBox) -> bool:
@@ -143,7 +144,7 @@ def chairs_facing_table(scene: Scene) -> list[int]:
 
 def sofas_facing_tv(scene: Scene) -> list[int]:
     """[facing a TV or TV stand, sofas in a room that has one]."""
-    screens = [o for o in scene.objects if _counted(o) and o.category in SCREENS]
+    screens = [o for o in scene.objects if counted(o) and o.category in SCREENS]
     if not screens:
         return [0, 0]
     sofas = [o for o in _floor_objects(scene) if o.category == "sofa"]
@@ -183,7 +184,9 @@ def layout_measures(scene: Scene) -> dict[str, list[int]]:
     return out
 
 
-def _stat(num: int, den: int, rooms: int) -> dict:
+def stat(num: int, den: int, rooms: int) -> dict:
+    """A measure's pooled stat: its rate (None when nothing was measurable), counts and
+    the number of rooms it was measurable in."""
     return {"rate": num / den if den else None, "count": [num, den], "rooms": rooms}
 
 
@@ -199,7 +202,7 @@ def pool(per_scene: Iterable[dict[str, Sequence[int]]]) -> dict[str, dict]:
             row[2] += d > 0
     for key in MEASURES:
         sums.setdefault(key, [0, 0, 0])
-    return {key: _stat(*sums[key]) for key in _ordered(sums)}
+    return {key: stat(*sums[key]) for key in _ordered(sums)}
 
 
 def _ordered(keys: Iterable[str]) -> list[str]:
@@ -221,7 +224,7 @@ def layout_section(reference: Sequence[Scene], generated: Sequence[Scene]) -> di
     against-wall rate of every :data:`WALL_FURNITURE` category; ``against_wall_other``
     holds the same rows for the other floor categories either set has."""
     gen, ref = layout_report(generated), layout_report(reference)
-    empty = _stat(0, 0, 0)
+    empty = stat(0, 0, 0)
     keys = _ordered(set(gen) | set(ref) | {f"against_wall/{c}" for c in WALL_FURNITURE})
     rows = {k: {"generated": gen.get(k, empty), "reference": ref.get(k, empty)} for k in keys}
     main = [*MEASURES, *(f"against_wall/{c}" for c in WALL_FURNITURE)]

@@ -19,41 +19,28 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from pair2scene.categories import BY_NAME, SuperCategory
+from pair2scene.metrics.layout import counted, stat
 from pair2scene.scene.model import Scene
 
 WALL_CATEGORIES = tuple(
     sorted(c for c, v in BY_NAME.items() if v.super is SuperCategory.WALL_OBJECT)
 )
 """The wall-object categories of the canonical vocabulary."""
-_SKIPPED = (SuperCategory.STRUCTURE, SuperCategory.PART)
-
-
-def _objects(scene: Scene) -> list[str]:
-    out = []
-    for o in scene.objects:
-        cat = BY_NAME.get(o.category)
-        if o.part_of is None and (cat is None or cat.super not in _SKIPPED):
-            out.append(o.category)
-    return out
-
-
-def _stat(num: int, den: int, rooms: int) -> dict:
-    return {"rate": num / den if den else None, "count": [num, den], "rooms": rooms}
 
 
 def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
     """Every row of the module docstring over ``scenes``."""
     rooms = len(scenes)
-    cats = [_objects(s) for s in scenes]
+    cats = [[o.category for o in s.objects if counted(o)] for s in scenes]
     total = sum(len(c) for c in cats)
     on_walls = sum(c in WALL_CATEGORIES for row in cats for c in row)
     out = {
-        "wall_objects_per_room": _stat(on_walls, rooms, rooms),
-        "windows_per_room": _stat(sum(len(s.room.windows) for s in scenes), rooms, rooms),
+        "wall_objects_per_room": stat(on_walls, rooms, rooms),
+        "windows_per_room": stat(sum(len(s.room.windows) for s in scenes), rooms, rooms),
     }
     for category in WALL_CATEGORIES:
         n = sum(c == category for row in cats for c in row)
-        out[f"wall_share/{category}"] = _stat(n, total, rooms)
+        out[f"wall_share/{category}"] = stat(n, total, rooms)
     return out
 
 

@@ -93,6 +93,15 @@ class Wall:
         rel = np.asarray(points, float) - self.midpoint
         return np.stack([rel @ self.direction, rel @ self.normal], axis=-1)
 
+    def span(self, p0, p1, tol: float = 0.05) -> tuple[float, float] | None:
+        """(lo, hi) along the wall, from its midpoint, that the segment ``p0``-``p1`` (a
+        door, a window) covers when it lies on the wall (both ends within ``tol`` m of
+        its line); None when it does not."""
+        ends = self.local(np.array([p0, p1], float))
+        if np.abs(ends[:, 1]).max() > tol:
+            return None
+        return float(ends[:, 0].min()), float(ends[:, 0].max())
+
     def to_dict(self) -> dict:
         return {"index": self.index, "p0": self.p0.tolist(), "p1": self.p1.tolist()}
 
