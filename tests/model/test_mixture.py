@@ -126,7 +126,7 @@ def test_gradients_finite_at_extreme_values():
     cfg = MixtureConfig()
     raw = torch.randn(8, cfg.head_dim, generator=torch.Generator().manual_seed(9)) * 1e4
     raw.requires_grad_(True)
-    params = mixture_params_from_head(raw, cfg.num_components, cfg.dim)
+    params = mixture_params_from_head(raw, cfg.num_components, cfg.dim, yaw_modes=cfg.yaw_modes)
     x = torch.full((8, cfg.dim), 1e6)
     x[::2] = -1e6
     x[1] = 0.0
@@ -183,8 +183,13 @@ def test_soft_clamp_bounds_and_gradient():
 
 
 def test_config_head_dim():
-    assert MixtureConfig().head_dim == 4 * (1 + 2 * 12) == 100
-    assert MixtureConfig(num_components=3, dim=2).head_dim == 15
+    assert MixtureConfig().head_dim == 4 * (1 + 2 * 12 + 4) == 116
+    assert MixtureConfig(yaw_modes=1).head_dim == 4 * (1 + 2 * 12) == 100
+    assert MixtureConfig(num_components=3, dim=2, yaw_modes=1).head_dim == 15
+    with pytest.raises(ValueError, match="yaw_modes"):
+        MixtureConfig(num_components=3, dim=2)
+    with pytest.raises(ValueError, match="yaw_modes"):
+        MixtureConfig(yaw_modes=3)
 
 
 # -- entropy and loss ------------------------------------------------------------------

@@ -242,7 +242,7 @@ def test_sampling_with_functional_anchor_and_floor(trained):
         "chair", [0.5, 0.5, 0.9], Anchor.floor(room), functional=Anchor("desk", desk)
     )
     params, factors = model.distribution([q, q])
-    assert params.loc.shape == (2, 4, 12) and factors.shape == (2, 3)
+    assert params.loc.shape == (2, 4 * 4, 12) and factors.shape == (2, 3)  # K x yaw turns
     boxes = model.sample(q, n=8, generator=torch.Generator().manual_seed(0))
     assert np.isfinite(boxes).all()
 

@@ -138,6 +138,13 @@ def train_command(
             "anchor); --no-anchor-frames: every tuple in its support's frame (the paper)."
         ),
     ] = True,
+    yaw_modes: Annotated[
+        int,
+        typer.Option(
+            help="Right-angle yaw turns per mixture component: 4 (quarter turns), 2, or 1 "
+            "(off: one yaw per component, as the paper)."
+        ),
+    ] = 4,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.
@@ -156,6 +163,7 @@ def train_command(
         max_steps=max_steps,
         seed=seed,
         anchor_frames=anchor_frames,
+        yaw_modes=yaw_modes,
     )
     result = train(config, data, out, progress=not as_json)
     doc = {

@@ -67,6 +67,7 @@ def layout_config_from_dict(doc: dict) -> LayoutConfig:
     doc = dict(doc)
     doc.setdefault("anchor_frames", False)  # written before issue 18: the support's frame
     mix = dict(doc.pop("mixture"))
+    mix.setdefault("yaw_modes", 1)  # written before the right-angle yaw modes
     mix["entropy_regulariser"] = EntropyRegulariser(mix["entropy_regulariser"])
     return LayoutConfig(
         **{**doc, "mixture": MixtureConfig(**mix), "variant": LayoutVariant(doc["variant"])}

@@ -21,7 +21,8 @@ convention). The network, as the method defines it:
      reaches another member only through the next block's self-attention;
   3. an MLP; all three pre-norm with residuals;
 - a head maps the dependent's Q tokens (flattened) to the K*(1+2*12) raw
-  mixture parameters.
+  mixture parameters, plus K * 4 turn logits: each component in four quarter turns of
+  its yaw (:func:`mixture.turned_components`).
 
 What the inputs already fix is added, not re-learned (:meth:`LayoutPredictor.known_target`):
 the dependent's size is an input (its asset is chosen before it is placed), so its
@@ -551,9 +552,10 @@ class LayoutPredictor(nn.Module):
             x = block(x, spatial, key_mask, memory)
 
         dependent = self.ln_f(x[:, :q]).reshape(b, q * d)  # (B, Q*D)
-        raw = self.head(dependent)  # (B, K*(1+2*12))
+        raw = self.head(dependent)  # (B, K*(1+2*12+Q))
+        mix = c.mixture
         params = mixture_params_from_head(
-            raw, c.mixture.num_components, BOX_DIM, c.mixture.min_log_scale, c.mixture.max_log_scale
+            raw, mix.num_components, BOX_DIM, mix.min_log_scale, mix.max_log_scale, mix.yaw_modes
         )
         params = params._replace(loc=params.loc + known[:, None, :])
         if batch.target is None:
@@ -585,7 +587,11 @@ class LayoutPredictor(nn.Module):
         """Mean NLL of ``target`` (B, 12) plus the configured entropy term; and its parts."""
         mix = self.config.mixture
         return mixture.loss(
-            params, self.to_mixture_space(target), mix.entropy_weight, mix.entropy_regulariser
+            params,
+            self.to_mixture_space(target),
+            mix.entropy_weight,
+            mix.entropy_regulariser,
+            mix.yaw_modes,
         )
 
     def log_prob(self, params: MixtureParams, target: Tensor) -> Tensor:

@@ -72,6 +72,9 @@ class TrainConfig:
     anchor_frames: bool = True
     """Predict each tuple in its governing anchor's frame (a wall, a functional anchor;
     docs/model.md); False: every tuple in its support's frame, as the paper does."""
+    yaw_modes: int = 4
+    """Right-angle yaw turns per mixture component (:class:`MixtureConfig.yaw_modes`): 4
+    quarter turns, 2 half turns, 1 off (each component one yaw, as the paper)."""
 
     def resolved_preset(self) -> TrainPreset:
         try:
@@ -86,6 +89,12 @@ class TrainConfig:
             p = dataclasses.replace(
                 p, layout=dataclasses.replace(p.layout, anchor_frames=self.anchor_frames)
             )
+        if p.layout.mixture.yaw_modes != self.yaw_modes:
+            try:
+                mix = dataclasses.replace(p.layout.mixture, yaw_modes=self.yaw_modes)
+            except ValueError as e:
+                raise UserError(f"--yaw-modes: {e}") from None
+            p = dataclasses.replace(p, layout=dataclasses.replace(p.layout, mixture=mix))
         return p
 
 
