@@ -332,6 +332,28 @@ class LabelMapper:
         return name
 
 
+MOUNTED_CATEGORIES = frozenset(
+    {"television", "microwave", "towel_holder", "toilet_paper_hanger", "shower"}
+)
+"""Besides the wall objects (paintings, mirrors, curtains, blinds, wall lamps), what the
+sources hang on walls: televisions (ProcTHOR: 164 of them), over-the-range microwaves
+(AI2-THOR kitchens), towel rails and paper holders, shower heads."""
+
+
+def hangs_on_walls(category: str) -> bool:
+    """Whether objects of ``category`` may hang on a wall (a wall object, or one of
+    :data:`MOUNTED_CATEGORIES`)."""
+    cat = BY_NAME.get(category)
+    return (cat is not None and cat.super is SuperCategory.WALL_OBJECT) or (
+        category in MOUNTED_CATEGORIES
+    )
+
+
+WINDOW_DRESSINGS = frozenset({"curtains", "blinds"})
+"""Wall objects that hang at a window (placement puts one at each window it can, a text's
+"curtains on the windows" gives one per window), never relative to another object."""
+
+
 def _check_tables() -> None:
     for table in (AI2THOR_LABELS, FUTURE3D_LABELS):
         bad = sorted(set(table.values()) - set(BY_NAME))

@@ -26,12 +26,13 @@ from pair2scene.assembly.records import Dropped
 from pair2scene.assembly.rooms import RoomTable, make_room
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assembly.walls import WallRules
+from pair2scene.categories import WINDOW_DRESSINGS
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.io.summary import Summary, resume_summary
-from pair2scene.scene.model import FLOOR, Scene
+from pair2scene.scene.model import FLOOR, Scene, on_wall
 
 if TYPE_CHECKING:  # (the model imports torch: only when a model is loaded)
     from pair2scene.assets.mesh import Asset
@@ -213,9 +214,12 @@ class Pair2Scene:
             assets = self.placer.assets_for(hierarchy, seed)
             furniture = sum(float(np.prod(assets[n.id].size[:2])) for n in hierarchy.nodes
                             if hierarchy.support[n.id] == FLOOR)  # fmt: skip
+            dressings = sum(1 for n in hierarchy.nodes if n.category in WINDOW_DRESSINGS
+                            and on_wall(hierarchy.support[n.id]))  # fmt: skip
             room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]),
                                  self.rooms, furniture,
-                                 self.stats.room_type(hierarchy.room_type))  # fmt: skip
+                                 self.stats.room_type(hierarchy.room_type),
+                                 dressings)  # fmt: skip
         else:
             room_obj = partial.room
             kept_assets = keep.assets

@@ -16,7 +16,7 @@ WINDOW = Opening("window", (4.0, 1.0), (4.0, 2.2), 0.9, 2.1)
 
 
 def _obj(oid: str, category: str, support=FLOOR, part_of=None) -> SceneObject:
-    box = OrientedBox.from_yaw([1, 1, 1.5], [0.6, 0.05, 0.5])
+    box = OrientedBox.from_yaw([1, 0.03, 1.5], [0.6, 0.05, 0.5])  # its back 5 mm off wall 0
     return SceneObject(oid, category, box, None, support, part_of=part_of)
 
 

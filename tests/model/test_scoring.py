@@ -178,4 +178,6 @@ def test_pipeline_fixture_scores(tmp_path, fixtures):
     data = load_pairs(out)
     assert set(data.split.tolist()) == {"train"}
     result = score(load_model("gaussian", data), data, "train")
-    assert result.n == len(data) == 57 and np.isfinite(result.nll)
+    assert result.n == len(data) == 64 and np.isfinite(result.nll)  # 7 of them paintings
+    on_walls = data.categories.index("wall")
+    assert (data.support.category == on_walls).sum() == 7

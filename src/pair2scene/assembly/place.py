@@ -48,6 +48,12 @@ from pair2scene.assembly.collision import (
     clearing_move,
     obb_overlaps,
 )
+from pair2scene.assembly.mounting import (
+    dress_window,
+    mount,
+    mount_blocked,
+    mount_order,
+)
 from pair2scene.assembly.records import Dropped, Moved
 from pair2scene.assembly.rest import (
     contact_rectangle,
@@ -62,10 +68,20 @@ from pair2scene.assembly.walls import WallRules, free_length, free_stretches, wa
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
+from pair2scene.categories import WINDOW_DRESSINGS
 from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
-from pair2scene.scene.model import FLOOR, AssetRef, Room, Scene, SceneObject
+from pair2scene.scene.model import (
+    FLOOR,
+    AssetRef,
+    Room,
+    Scene,
+    SceneObject,
+    on_wall,
+    wall_index,
+    wall_support,
+)
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
 from pair2scene.scene.walls import Wall, wall_contact, walls_of
 
@@ -359,7 +375,7 @@ class Placer:
             fits = None
             if item.support != FLOOR and item.support in assets:
                 fits = surface_fit(assets[item.support])
-            size = self.sizes.draw(node.category, rng, fits=fits)
+            size = self.sizes.draw(node.category, rng, fits=fits, mounted=on_wall(item.support))
             # An integer seed for the mesh, recorded in scene.json: read back, the scene
             # rebuilds exactly these shapes (assembly.keep.keep_assets).
             assets[node.id] = generate(node.category, size, int(rng.integers(2**31)))
@@ -412,6 +428,7 @@ class Placer:
         n = cfg.candidates * cfg.batches
         rejections = stats.rejections
         framed = bool(getattr(self.model, "draws_in_frames", False))
+        dressed: set[int] = set()  # windows with curtains or blinds
 
         t0 = time.perf_counter()
         if assets is None:
@@ -433,20 +450,21 @@ class Placer:
             if node.id in overflow:
                 stats.dropped.append(Dropped(node.id, node.category, overflow[node.id]))
                 continue
-            if item.support != FLOOR and item.support not in placed:
+            mounted = on_wall(item.support)
+            if item.support != FLOOR and not mounted and item.support not in placed:
                 stats.dropped.append(
                     Dropped(node.id, node.category, f"its support {item.support} was dropped")
                 )
                 continue
             asset = assets[node.id]
-            if item.support != FLOOR and cfg.reject and cfg.gravity:
+            if item.support != FLOOR and not mounted and cfg.reject and cfg.gravity:
                 too_big = no_room_on(asset, placed[item.support].asset)
                 if too_big is not None:  # no candidate could rest: do not draw 256
                     stats.dropped.append(
                         Dropped(node.id, node.category, f"{too_big} of {item.support}")
                     )
                     continue
-            if item.support == FLOOR:
+            if item.support == FLOOR or mounted:  # a mounted one's wall: per query below
                 support = Anchor.floor(bounds)
             else:
                 sp = placed[item.support]
@@ -466,8 +484,16 @@ class Placer:
             queries = [(query, None)]
             if item.support == FLOOR:
                 queries = self._wall_queries(query, node, room, placed, seed, check) or queries
+            elif mounted:
+                queries = self._mount_queries(query, node, item.support, room, placed, seed,
+                                              dressed)  # fmt: skip
+                if not queries:
+                    why = ("no window left for it" if node.category in WINDOW_DRESSINGS
+                           else "no wall of the room")  # fmt: skip
+                    stats.dropped.append(Dropped(node.id, node.category, why))
+                    continue
             on_floor_ = item.support == FLOOR
-            ref_yaw = 0.0 if on_floor_ else placed[item.support].box.yaw
+            ref_yaw = 0.0 if on_floor_ or mounted else placed[item.support].box.yaw
             snap = cfg.snap_yaw_deg if on_floor_ else cfg.snap_yaw_support_deg
             shape = Shape(asset)
             ids = list(placed)  # fixed while this object's candidates are tried
@@ -479,9 +505,15 @@ class Placer:
             tried = 0
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
-                context.wall = wall if framed else None
+                dressing = wall if isinstance(wall, _Dressing) else None
+                context.wall = wall if framed and not mounted else None
+                context.mount = (wall if dressing is None else dressing.wall) if mounted else None
+                context.dressing = dressing
                 t0 = time.perf_counter()
-                boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
+                if dressing is not None:  # curtains at a window: by rule
+                    boxes, mass = [dressing.box.to_vector()], None
+                else:
+                    boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
                 if k == 0 and region is not None and mass is not None:
                     stats.outside_mass.append(1.0 - mass)
                 timer["model"] += time.perf_counter() - t0
@@ -510,13 +542,18 @@ class Placer:
                 rejections[reason] = rejections.get(reason, 0) + count
             if accepted is None:
                 why = ", ".join(f"{k} {v}" for k, v in sorted(own.items(), key=lambda kv: -kv[1]))
-                reason = f"no valid placement among {n} candidates ({why})"
+                reason = f"no valid placement among {tried} candidates ({why})"
                 if on_floor_ and _too_large(asset.size, room):
                     reason = (f"too large for the room ({asset.size[0]:.2f} x "
                               f"{asset.size[1]:.2f} m)")  # fmt: skip
                 stats.dropped.append(Dropped(node.id, node.category, reason))
                 continue
             index, box = accepted
+            support_id = item.support
+            if mounted:
+                support_id = wall_support(context.mount.index)
+                if context.dressing is not None:
+                    dressed.add(context.dressing.window)
             shape.set_pose(box.rotation, box.center)
             world.add(node.id, shape)
             placed[node.id] = _Placed(box, asset)
@@ -527,7 +564,7 @@ class Placer:
                 SceneObject(
                     node.id, node.category, box,
                     AssetRef(asset.source, asset.asset_id, asset.style, asset.extra.get("seed")),
-                    support=item.support,
+                    support=support_id,
                     functional_anchor=item.functional if item.functional in placed else None,
                 )
             )  # fmt: skip
@@ -562,12 +599,41 @@ class Placer:
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
+    def _mount_queries(
+        self, query, node, support: str, room: Room, placed: dict[str, _Placed], seed: int,
+        dressed: set[int],
+    ) -> list:  # fmt: skip
+        """(``query`` on a wall, the wall) once per wall to try (:func:`mount_order`); for
+        curtains and blinds (None, a :class:`_Dressing`) once per window not yet dressed."""
+        from pair2scene.model.api import Anchor
+
+        walls = walls_of(room.floor_polygon)
+        rng = np.random.default_rng([asset_seed(node.id, seed), 191])
+        if node.category in WINDOW_DRESSINGS:
+            out = []
+            for i, window in enumerate(room.windows):
+                if i in dressed:
+                    continue
+                for wall in walls:
+                    if wall_index(support) not in (None, wall.index):
+                        continue
+                    box = dress_window(window, wall, query.size, room.height,
+                                       self.config.ceiling_margin_m)  # fmt: skip
+                    if box is not None:
+                        out.append((None, _Dressing(wall, i, box)))
+            return out
+        anchor = None if query.functional is None else query.functional.box
+        order = mount_order(walls, rng, anchor, wall_index(support))
+        return [(replace(query, support=Anchor.wall(w.frame(room.height))), w) for w in order]
+
     def _settle_candidate(
         self, box: OrientedBox, ctx: _Context
     ) -> tuple[OrientedBox | None, str | None, bool]:
         """The candidate at rest (dropped, nudged onto its surface or into the room, pushed
         out of a shallow collision), the reason it cannot stay, and whether it was moved."""
         cfg = self.config
+        if ctx.mount is not None:
+            return self._hang_candidate(box, ctx)
         moved = False
         for attempt in range(cfg.push_attempts + 1):
             rested, reason, shifted = self._rest(box, ctx)
@@ -598,6 +664,26 @@ class Placer:
             box, moved = OrientedBox(center, rested.size, rested.rotation), True
         return None, "collision", moved  # unreachable: the loop returns
 
+    def _hang_candidate(
+        self, box: OrientedBox, ctx: _Context
+    ) -> tuple[OrientedBox | None, str | None, bool]:
+        """A mounted object's candidate hung on its wall (:func:`mount`; curtains as
+        :func:`dress_window` put them) and why it cannot stay: ``too_large`` for the wall,
+        :func:`mount_blocked`'s reasons, ``collision`` (never pushed: it must stay on the
+        wall where it was drawn)."""
+        cfg = self.config
+        dressing = ctx.dressing is not None
+        hung = box if dressing else mount(box, ctx.mount, ctx.room.height, cfg.ceiling_margin_m)
+        if hung is None:
+            return None, "too_large", False
+        if not cfg.reject:
+            return hung, None, False
+        floor = [ctx.placed[i].box for i in ctx.ids if ctx.placed[i].box.bottom < 0.05]
+        reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
+        if reason is None:
+            reason, _ = self._blocked(hung, ctx)
+        return (None, reason, False) if reason is not None else (hung, None, False)
+
     def _rest(self, box: OrientedBox, ctx: _Context) -> tuple[OrientedBox | None, str | None, bool]:
         """The candidate dropped onto what carries it (nudged at most ``repair_m``), or
         (None, why not); and whether it was nudged."""
@@ -627,6 +713,9 @@ class Placer:
         """The no-rejection ablation's object: at rest (nudged) when gravity is on and
         something carries it, else where drawn (a floor object on the floor when gravity
         is on); and whether it was nudged. Nothing is tested against the room or others."""
+        if ctx.mount is not None:  # hung on its wall, wherever that puts it
+            hung = self._hang_candidate(box, ctx)[0]
+            return (box, False) if hung is None else (hung, False)
         if not self.config.gravity:
             return box, False
         rested, _, shifted = self._rest(box, ctx)
@@ -707,6 +796,21 @@ class _Context:
     """Keeps the object at its functional anchor (None: no rule)."""
     wall: Wall | None = None
     """The wall the candidates are drawn against (None: no wall)."""
+    mount: Wall | None = None
+    """The wall a mounted object's candidates hang on (None: not mounted)."""
+
+    dressing: _Dressing | None = None
+    """Where curtains or blinds hang (None: not a window dressing)."""
+
+
+@dataclass(frozen=True)
+class _Dressing:
+    """A window that curtains or blinds are to hang at: its wall, its index in the room
+    and their box there (:func:`dress_window`)."""
+
+    wall: Wall
+    window: int
+    box: OrientedBox
 
 
 def surface_fit(support: Asset, margin: float = 0.9):

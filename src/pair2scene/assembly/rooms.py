@@ -73,19 +73,35 @@ class RoomTable:
         return cls({t: np.stack([s[k] for k in sorted(s)]) for t, s in sorted(seen.items())})
 
     def draw(self, room_type: str, rng: np.random.Generator, min_area: float = 0.0) -> np.ndarray:
-        """(3,) bounds of a training room of ``room_type`` (of any type when unseen) with
-        at least ``min_area`` m2 of floor (the largest when none has)."""
+        """(3,) bounds of a training room of ``room_type`` with at least ``min_area`` m2
+        of floor (the largest when none has). A composed type's
+        (:mod:`pair2scene.hierarchy.room_types`: an office) is one of its base types'
+        rooms, each type drawn with its weight in the recipe; any type's when unseen."""
+        from pair2scene.hierarchy.room_types import composed_types
+
         options = self.sizes.get(room_type)
+        weights = None
         if options is None or not len(options):
+            recipe = composed_types().get(room_type)
+            bases = [(self.sizes[b], w) for b, w in (recipe.bases if recipe else ())
+                     if len(self.sizes.get(b, ()))]  # fmt: skip
             every = [s for s in self.sizes.values() if len(s)]
-            if not every:
+            if bases:
+                options = np.concatenate([s for s, _ in bases])
+                weights = np.concatenate([np.full(len(s), w / len(s)) for s, w in bases])
+            elif every:
+                options = np.concatenate(every)
+            else:
                 return np.asarray(FALLBACK_SIZE, dtype=float)
-            options = np.concatenate(every)
         area = options[:, 0] * options[:, 1]
         if not (area >= min_area).any():
             return options[int(np.argmax(area))].astype(float)
-        options = options[area >= min_area]
-        return options[int(rng.integers(len(options)))].astype(float)
+        large = area >= min_area
+        options = options[large]
+        if weights is None:
+            return options[int(rng.integers(len(options)))].astype(float)
+        p = weights[large] / weights[large].sum()
+        return options[int(rng.choice(len(options), p=p))].astype(float)
 
     def save(self, path: str | Path) -> None:
         doc = {
@@ -107,12 +123,14 @@ def make_room(
     table: RoomTable | None = None,
     furniture_m2: float = 0.0,
     stats: RoomTypeStats | None = None,
+    min_windows: int = 0,
 ) -> Room:
     """A rectangular room of a training room's size, with room for ``furniture_m2`` of
     floor furniture footprint (:data:`MAX_FLOOR_SHARE`), one door on a random wall and
     the windows of :func:`draw_windows` (none without ``stats``); the floor spans
     [0, width] x [0, depth]. The windows are drawn after the rest, so a room's size and
-    door do not depend on them."""
+    door do not depend on them; ``min_windows``: at least that many (one for each
+    curtains or blinds the room is to hold), as far as its walls have room."""
     table = RoomTable.load() if table is None else table
     w, d, h = table.draw(room_type, rng, furniture_m2 / MAX_FLOOR_SHARE)
     polygon = np.array([[0.0, 0.0], [w, 0.0], [w, d], [0.0, d]])
@@ -130,7 +148,7 @@ def make_room(
     windows = ()
     if stats is not None:
         windows = draw_windows(polygon, float(h), doors, stats.window_counts,
-                               stats.window_shapes, rng)  # fmt: skip
+                               stats.window_shapes, rng, min_windows)  # fmt: skip
     return Room(room_type, polygon, float(h), doors, windows)
 
 
@@ -141,12 +159,14 @@ def draw_windows(
     counts: Counter[int],
     shapes: Counter[tuple[float, float, float]],
     rng: np.random.Generator,
+    at_least: int = 0,
 ) -> tuple[Opening, ...]:
     """Windows for a room: their number drawn from ``counts`` (windows a room -> rooms),
     each one's (width, sill, top) from ``shapes``, on a wall with a free stretch that wide
     (:data:`WINDOW_CORNER_GAP_M` from the corners, :data:`WINDOW_GAP_M` from doors and the
     other windows), the wall weighted by its free length and the window uniform along
-    the stretch. A window with no wall left for it is not placed."""
+    the stretch; at least ``at_least`` of them. A window with no wall left for it is not
+    placed."""
     if not counts or not shapes:
         return ()
     walls = walls_of(np.asarray(polygon, float))
@@ -157,7 +177,7 @@ def draw_windows(
             if span is not None:
                 taken[i].append(span)
     out: list[Opening] = []
-    for k in range(int(draw_counted(counts, rng))):
+    for k in range(max(int(draw_counted(counts, rng)), at_least)):
         width, sill, top = draw_counted(shapes, rng)
         if top > height - CEILING_GAP_M:  # a taller room's window: moved down
             sill, top = max(sill - (top - (height - CEILING_GAP_M)), 0.0), height - CEILING_GAP_M

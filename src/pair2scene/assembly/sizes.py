@@ -6,7 +6,9 @@ to :data:`KEEP_PER_CATEGORY` observed sizes per category from a 3D-Pairs folder 
 dependents of its train split, rounded to a millimetre); :meth:`SizeTable.draw` picks one
 and scales it by a small log-normal jitter, so sizes are real combinations of width,
 depth and height (a wide and low sofa, never a wide, deep and tall one). A category the
-data never had falls back to the asset library's typical size. The table for the AI2-THOR
+data never had falls back to the asset library's typical size. Objects hung on a wall are
+kept apart (``painting@wall``: a painting on a wall is wide, thin and tall, one lying on a
+shelf may be stored any way round; a mounted TV has no foot). The table for the AI2-THOR
 + ProcTHOR-1k train rooms ships with the package (``resources/sizes.json``).
 """
 
@@ -18,9 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from pair2scene.curation.stats import WALL_MARK
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.resources import load_table, table_path
+from pair2scene.scene.model import WALL
 
 SIZES_FORMAT = "pair2scene.sizes"
 SIZES_VERSION = 1
@@ -43,8 +47,11 @@ class SizeTable:
         """The dependents' sizes of a :class:`~pair2scene.curation.dataset.PairsDataset`."""
         rows = np.ones(len(data), bool) if split is None else data.split == split
         table: dict[str, list[np.ndarray]] = {}
-        for cat, box in zip(data.dependent.category[rows], data.dependent.box[rows]):
-            table.setdefault(data.categories[cat], []).append(np.round(box[3:6], 3))
+        wall = data.categories.index(WALL) if WALL in data.categories else -1
+        for cat, box, sup in zip(data.dependent.category[rows], data.dependent.box[rows],
+                                 data.support.category[rows]):  # fmt: skip
+            key = data.categories[cat] + (WALL_MARK if sup == wall else "")
+            table.setdefault(key, []).append(np.round(box[3:6], 3))
         out = {}
         for cat, sizes in sorted(table.items()):
             arr = np.unique(np.stack(sizes), axis=0)
@@ -55,12 +62,20 @@ class SizeTable:
         return cls(out)
 
     def draw(
-        self, category: str, rng: np.random.Generator, jitter: float = JITTER, fits=None
+        self,
+        category: str,
+        rng: np.random.Generator,
+        jitter: float = JITTER,
+        fits=None,
+        mounted: bool = False,
     ) -> np.ndarray:
         """A size (3,) for ``category``: an observed one, jittered; typical size if unseen.
         ``fits`` ((K, 3) -> (K,) bool) narrows the draw to the sizes it accepts (when none
-        does, the smallest footprint is taken)."""
-        observed = self.sizes.get(category)
+        does, the smallest footprint is taken). ``mounted``: of one hung on a wall, when
+        the data had such."""
+        observed = self.sizes.get(category + WALL_MARK) if mounted else None
+        if observed is None:
+            observed = self.sizes.get(category)
         if observed is None or len(observed) == 0:
             from pair2scene.assets.typical_sizes import typical_size
 

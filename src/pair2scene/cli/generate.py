@@ -16,7 +16,11 @@ from pair2scene.generate import GenerateConfig
 def generate_command(
     out: Annotated[Path, typer.Option("--out", help="Output folder (resumed if present).")],
     room: Annotated[
-        str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
+        str | None,
+        typer.Option(
+            help="Room type: bedroom, living_room, kitchen, bathroom, apartment (trained), or "
+            "office, study, dining_room, kids_room (composed from them; see README)."
+        ),
     ] = None,
     text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
     num: Annotated[int, typer.Option(help="Scenes to generate (seeds seed .. seed+num-1).")] = 1,

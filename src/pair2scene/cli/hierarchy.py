@@ -19,7 +19,11 @@ from pair2scene.hierarchy.synthesis import HierarchyConfig
 @with_config(HierarchyConfig, prefix=("hierarchy",))
 def hierarchy_command(
     room: Annotated[
-        str | None, typer.Option(help="Room type: bedroom, living_room, kitchen, bathroom...")
+        str | None,
+        typer.Option(
+            help="Room type: bedroom, living_room, kitchen, bathroom, apartment (trained), or "
+            "office, study, dining_room, kids_room (composed from them; see README)."
+        ),
     ] = None,
     text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
     file: Annotated[
@@ -71,7 +75,8 @@ def hierarchy_command(
             typer.echo(f"{'  ' * depth}- {child.id}{at}")
             show(child.id, depth + 1)
 
-    typer.echo("floor")
-    show("floor", 1)
+    for root in h.roots():  # the floor, then the walls
+        typer.echo(root)
+        show(root, 1)
     for note in h.notes:
         typer.echo(f"note: {note}")

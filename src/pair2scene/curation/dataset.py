@@ -53,8 +53,13 @@ from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import AssetRef
 
 PAIRS_FORMAT = "pair2scene.pairs"
-PAIRS_VERSION = 2
-"""2: the wall anchor (``wall_box``, ``wall_index``, ``canonical_wall``) of issue 18."""
+PAIRS_VERSION = 3
+"""2: the wall anchor (``wall_box``, ``wall_index``, ``canonical_wall``) of issue 18.
+3: tuples of objects mounted on a wall, whose support member is that wall (id
+``wall_<i>``, category ``wall``, box the wall's frame, no asset) of issue 19."""
+READABLE_VERSIONS = (2, 3)
+"""Versions :func:`read_pairs` reads: a version 2 dataset is a version 3 one without
+mounted objects."""
 MANIFEST = "manifest.json"
 SHARD_DIR = "shards"
 SHARD_SIZE = 4096
@@ -454,7 +459,7 @@ def load_pairs(
     """
     root = Path(root)
     doc = _read_manifest(root / MANIFEST)
-    if doc.get("version") != PAIRS_VERSION:
+    if doc.get("version") not in READABLE_VERSIONS:
         raise UserError(f"{root / MANIFEST}: version {doc.get('version')!r} not supported")
     if not doc.get("complete") and not allow_incomplete:
         raise UserError(f"{root}: curation did not finish (rerun the same curate command)")

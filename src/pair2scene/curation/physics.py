@@ -60,7 +60,7 @@ from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR, Scene, SceneObject
+from pair2scene.scene.model import FLOOR, Scene, SceneObject, on_wall
 
 
 @dataclass(frozen=True)
@@ -201,7 +201,7 @@ def plan_bodies(scene: Scene) -> dict[str, BodyPlan]:
             plans[o.id] = BodyPlan(Role.EXCLUDED, why="room structure")
         elif sup is SuperCategory.FIXTURE:
             plans[o.id] = BodyPlan(Role.STATIC, why="built-in fixture")
-        elif sup is SuperCategory.WALL_OBJECT:
+        elif sup is SuperCategory.WALL_OBJECT or on_wall(o.support):
             plans[o.id] = BodyPlan(Role.STATIC, why="hangs on a wall")
         elif sup is SuperCategory.PART:
             plans[o.id] = BodyPlan(Role.STATIC, why="part without free furniture owner")

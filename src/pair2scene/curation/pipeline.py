@@ -153,8 +153,10 @@ def _validate_physics(scene: Scene, seed: int):
 
 def _distill_functional(scene: Scene, proposer, use_k_check: bool) -> Scene:
     from pair2scene.curation import functional
+    from pair2scene.curation.wall_objects import wall_anchors
 
-    return functional.distill_functional(scene, proposer, use_k_check=use_k_check)
+    # Objects on a wall take the floor object they hang over (or face) as their anchor.
+    return wall_anchors(functional.distill_functional(scene, proposer, use_k_check=use_k_check))
 
 
 def _support_scores(scenes: list[Scene]):

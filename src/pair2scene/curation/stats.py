@@ -4,8 +4,9 @@
   category (the floor included, as ``floor``);
 - ``func_dep[support][functional anchor][dependent]``: how often a dependent has a
   functional anchor of a category, among objects on a support of a category;
-- per room type: templates, the multisets of floor-standing furniture (with counts) that
-  rooms of that type hold, from which each category's count distribution follows, and
+- per room type: templates, the multisets of floor-standing furniture and of objects
+  mounted on walls (``painting@wall``, :data:`WALL_MARK`; with counts) that rooms of that
+  type hold, from which each category's count distribution follows, and
   the distribution of the number of placed objects per room;
 - per room type and floor category: how many stand on the floor and how many of those
   stand against a wall (:func:`~pair2scene.curation.tuples.wall_anchor`), from which
@@ -35,7 +36,7 @@ import numpy as np
 from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
-from pair2scene.scene.model import FLOOR, Scene, SceneObject
+from pair2scene.scene.model import FLOOR, WALL, Scene, SceneObject, on_wall
 from pair2scene.scene.relations import faces, footprint, footprint_gap
 from pair2scene.scene.walls import walls_of
 
@@ -66,8 +67,27 @@ def draw_counted(counter: Counter, rng: np.random.Generator):
     return keys[int(rng.choice(len(keys), p=w / w.sum()))]
 
 
-def _is_template_member(obj: SceneObject) -> bool:
-    return obj.support == FLOOR and obj.super in TEMPLATE_SUPER_CATEGORIES
+WALL_MARK = "@" + WALL
+"""Suffix of a template member mounted on a wall (``painting@wall``): the template holds
+a room's wall objects beside its furniture, so how many paintings, mirrors and curtains
+a room has goes with its furniture (and a mounted TV is told from one on a stand)."""
+
+
+def template_member(obj: SceneObject) -> str | None:
+    """``obj``'s entry in its room's template: its category for floor-standing furniture
+    and fixtures, ``<category>@wall`` for an object mounted on a wall; None otherwise."""
+    if on_wall(obj.support):
+        return obj.category + WALL_MARK
+    if obj.support == FLOOR and obj.super in TEMPLATE_SUPER_CATEGORIES:
+        return obj.category
+    return None
+
+
+def split_member(member: str) -> tuple[str, bool]:
+    """A template entry -> (category, mounted on a wall)."""
+    if member.endswith(WALL_MARK):
+        return member[: -len(WALL_MARK)], True
+    return member, False
 
 
 @dataclass
@@ -76,7 +96,8 @@ class RoomTypeStats:
 
     rooms: int = 0
     layouts: Counter[tuple[str, ...]] = field(default_factory=Counter)
-    """Sorted multiset of template categories (repeats kept) -> number of rooms with it."""
+    """Sorted multiset of template members (:func:`template_member`, repeats kept) ->
+    number of rooms with it."""
     object_counts: Counter[int] = field(default_factory=Counter)
     """Number of placed objects in a room -> number of rooms."""
     layout_counts: Counter[tuple[tuple[str, ...], int]] = field(default_factory=Counter)
@@ -191,6 +212,8 @@ class HierarchyStats:
         def cat_of(ref: str) -> str | None:
             if ref == FLOOR:
                 return FLOOR
+            if on_wall(ref):
+                return WALL
             obj = by_id.get(ref)
             return None if obj is None else obj.category
 
@@ -208,7 +231,7 @@ class HierarchyStats:
         self._add_present(placed, cat_of)
         room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
         room.rooms += 1
-        layout = tuple(sorted(o.category for o in placed if _is_template_member(o)))
+        layout = tuple(sorted(m for m in map(template_member, placed) if m is not None))
         room.layouts[layout] += 1
         room.object_counts[len(placed)] += 1
         room.layout_counts[layout, len(placed)] += 1
@@ -242,16 +265,18 @@ class HierarchyStats:
     def _add_present(self, placed: list[SceneObject], cat_of) -> None:
         by_support: dict[str, list[SceneObject]] = {}
         for o in placed:
-            by_support.setdefault(o.support, []).append(o)
+            by_support.setdefault(WALL if on_wall(o.support) else o.support, []).append(o)
+        floor = Counter(o.category for o in by_support.get(FLOOR, []))
         for support, group in by_support.items():
             sup_cat = cat_of(support)
             if sup_cat is None:
                 continue
-            cats = Counter(o.category for o in group)
+            # A wall object's anchor stands on the floor (a painting above the bed).
+            cats = floor if support == WALL else Counter(o.category for o in group)
             per_support = self.func_present.setdefault(sup_cat, {})
             for o in group:
                 for a, n in cats.items():
-                    if n - (a == o.category) > 0:  # another object of that category
+                    if n - (a == o.category and support != WALL) > 0:  # another object
                         per_support.setdefault(a, Counter())[o.category] += 1
 
     @classmethod
@@ -283,14 +308,34 @@ class HierarchyStats:
 
     # -- queries ------------------------------------------------------------------
     def room_type(self, room_type: str) -> RoomTypeStats:
-        """The statistics of ``room_type``; of every room type pooled when no training
-        room had it (an office described in text gets the windows of rooms in general)."""
+        """The statistics of ``room_type``. When no training room had it: for a composed
+        type (``resources/room_types.json``, :mod:`pair2scene.hierarchy.room_types`) those
+        of its base types pooled, each weighted by its share of the recipe (counts scaled,
+        so not whole numbers; an office gets windows of living rooms and bedrooms, its
+        templates are composed in the hierarchy stage); otherwise of every room type
+        pooled (a garage described in text gets the windows of rooms in general)."""
         rs = self.room_types.get(room_type)
         if rs is not None:
             return rs
+        from pair2scene.resources import load_table
+
+        recipe = load_table("room_types")["types"].get(room_type, {})
+        bases = {b: float(w) for b, w in sorted(recipe.get("bases", {}).items())
+                 if b in self.room_types and self.room_types[b].rooms}  # fmt: skip
         pooled = RoomTypeStats()
-        for other in self.room_types.values():
-            pooled.add(other)
+        if not bases:
+            for other in self.room_types.values():
+                pooled.add(other)
+            return pooled
+        pooled.rooms = sum(self.room_types[b].rooms for b in bases)
+        for base, weight in bases.items():
+            part = self.room_types[base]
+            scale = weight / sum(bases.values()) * pooled.rooms / part.rooms
+            for name in ("layouts", "object_counts", "layout_counts", "on_floor",
+                         "against_wall", "window_counts", "window_shapes"):  # fmt: skip
+                counts = getattr(pooled, name)
+                for key, n in getattr(part, name).items():
+                    counts[key] += n * scale
         return pooled
 
     def templates(self, room_type: str, top: int | None = None) -> list[tuple[dict[str, int], int]]:

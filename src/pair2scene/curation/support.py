@@ -25,7 +25,8 @@ on walls). Parts (drawers, shelves, cabinet doors) belong to the smallest piece 
 furniture containing them, objects an adapter built into another (``part_of``: a faucet
 of a sink, pair2scene.data.fixtures) to that one, and anything resting on a part is
 supported by the part's owner. Wall objects, rails and others that nothing carries get
-``support = None``.
+``support = None`` from :func:`find_supports`; :func:`extract_support` then mounts those
+touching a wall on it (``wall:<i>``, :func:`pair2scene.curation.wall_objects.mount_on_walls`).
 
 :func:`support_scores` compares the result with the sources' own annotations
 (AI2-THOR ``parentReceptacles``, ProcTHOR child nesting), resolved the way the
@@ -427,14 +428,18 @@ def find_supports(
 
 def extract_support(scene: Scene, library=None, config: SupportConfig = DEFAULT_CONFIG) -> Scene:
     """A copy of ``scene`` whose objects' ``support`` is found from geometry alone
-    (``source_support`` is left as the source gave it; structure objects keep theirs).
+    (``source_support`` is left as the source gave it; structure objects keep theirs), and
+    objects nothing carries that touch a wall mounted on it (``wall:<i>``, their box
+    turned to have its back against it: :func:`~pair2scene.curation.wall_objects.mount_on_walls`).
 
     library : an :class:`~pair2scene.assets.AssetLibrary` for the candidates' support
     surfaces (default: the procedural one).
     """
+    from pair2scene.curation.wall_objects import mount_on_walls
+
     found = find_supports(scene, library, config)
     objects = [replace(o, support=found[o.id]) if o.id in found else o for o in scene.objects]
-    return replace(scene, objects=objects)
+    return mount_on_walls(replace(scene, objects=objects))
 
 
 # -- evaluation -----------------------------------------------------------------------

@@ -16,11 +16,8 @@ from enum import Enum
 
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR, AssetRef, Scene, SceneObject
+from pair2scene.scene.model import FLOOR, WALL, AssetRef, Scene, SceneObject, wall_index
 from pair2scene.scene.walls import Wall, wall_contact, walls_of
-
-WALL = "wall"
-"""Category of a wall member (a structure category: never a dependent)."""
 
 
 class RelationKind(str, Enum):
@@ -29,7 +26,7 @@ class RelationKind(str, Enum):
     FLOOR = "floor"
     """Resting on the floor, no functional anchor: large furniture placed relative to the room."""
     SUPPORT = "support"
-    """Resting on an object, no functional anchor."""
+    """Resting on an object or mounted on a wall, no functional anchor."""
     FUNCTIONAL = "functional"
     """Has a functional anchor (on any support, the floor included)."""
 
@@ -91,7 +88,8 @@ def _member(obj: SceneObject) -> Member:
 
 
 def wall_member(wall: Wall, height: float) -> Member:
-    """A wall as a tuple member: its box is the wall's frame."""
+    """A wall as a tuple member: its box is the wall's frame (the support of a mounted
+    object, the third anchor of a floor object against it)."""
     return Member(f"wall_{wall.index}", WALL, None, wall.frame(height))
 
 
@@ -141,6 +139,12 @@ def scene_tuples(
             continue
         if obj.support == FLOOR:
             support = floor
+        elif wall_index(obj.support) is not None:
+            wall = next((w for w in walls if w.index == wall_index(obj.support)), None)
+            if wall is None:
+                skipped["wall support not in the room"] += 1
+                continue
+            support = wall_member(wall, scene.room.height)
         elif obj.support in by_id:
             support = _member(by_id[obj.support])
         else:

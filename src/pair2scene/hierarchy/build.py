@@ -7,6 +7,7 @@ from pathlib import Path
 
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
+from pair2scene.hierarchy.room_types import resolve
 from pair2scene.hierarchy.synthesis import (
     HierarchyConfig,
     SynthesisConfig,
@@ -25,8 +26,10 @@ LLM_CHOICES = ("auto", "never", "always")
 
 
 def room_key(room: str) -> str:
-    """'Living room' / 'living-room' / 'living_room' -> 'living_room'."""
-    return "_".join(room.strip().lower().replace("-", " ").split())
+    """'Living room' / 'living-room' / 'living_room' -> 'living_room'; apostrophes go and
+    the aliases of composed room types (``resources/room_types.json``) are replaced by the
+    type: "kids' room" / "children's room" -> 'kids_room', 'home office' -> 'office'."""
+    return resolve(room)
 
 
 def build_hierarchy(

@@ -10,11 +10,20 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    text's relations; an object the text puts nowhere stands on the floor if its category
    mostly does, else on a named or template object that the statistics say holds it
    (adding its most common holder when none is there);
-3. the room is completed from the statistics: the furniture of a training template of
-   that room type (one holding the type's key furniture, a bed for a bedroom) that the
-   text does not name, then the expansion of :mod:`.synthesis` up to the drawn object
-   count (``fit``) or ``max_objects`` (``beyond``). Categories the text names are never
-   added by the statistics: "two lamps" stays two.
+3. walls: a mention the text hangs on a wall (:attr:`~.text.TextSpec.on_wall`: "a TV on
+   the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
+   puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
+   floor-standing object under it, is its functional anchor ("a painting above the
+   sofa"); without one it has none ("a mirror on the wall"). Curtains and blinds never
+   have one: placement hangs each at a window and gives the room a window for each. A
+   floor object the text places relative to a wall object ("a sofa facing the TV on the
+   wall") stands on the floor and becomes the wall object's anchor instead. A note names
+   every wall object the text asked for;
+4. the room is completed from the statistics: the furniture and wall objects of a
+   training template of that room type (one holding the type's key furniture, a bed for a
+   bedroom) that the text does not name, then the expansion of :mod:`.synthesis` up to the
+   drawn object count (``fit``) or ``max_objects`` (``beyond``). Categories the text names
+   are never added by the statistics: "two lamps" stays two, "a painting" one painting.
 """
 
 from __future__ import annotations
@@ -24,8 +33,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import HierarchyStats, draw_counted
+from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
+from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
     Statistics,
@@ -35,9 +44,9 @@ from pair2scene.hierarchy.synthesis import (
     extra_furniture,
     load_stats,
 )
-from pair2scene.hierarchy.text import TextSpec
+from pair2scene.hierarchy.text import MOUNTABLE, WALL_OBJECTS, Mention, TextSpec
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall
 
 OTHER_ROOM = "other"
 MAX_COUNT = 100
@@ -52,16 +61,21 @@ def infer_room_type(spec: TextSpec, st: Statistics) -> str:
     named = {m.category for m in spec.mentions}
     best, best_score = OTHER_ROOM, 0.0
     for rtype, rs in sorted(st.stats.room_types.items()):
-        hist = rs.furniture_counts()
-        score = sum(1.0 - hist[c].get(0, 0) / max(rs.rooms, 1) for c in named if c in hist)
+        hist = rs.furniture_counts()  # a wall object's members are "<category>@wall"
+        score = sum(
+            1.0 - hist[c].get(0, 0) / max(rs.rooms, 1)
+            for c in sorted(hist)
+            if split_member(c)[0] in named
+        )
         if score > best_score:
             best, best_score = rtype, score
     return best
 
 
 def key_furniture(rs) -> str | None:
-    """The furniture category most rooms of a type hold (bed, sofa, ...)."""
-    hist = rs.furniture_counts()
+    """The furniture category most rooms of a type hold (bed, sofa, ...; never a wall
+    object)."""
+    hist = {c: n for c, n in rs.furniture_counts().items() if not split_member(c)[1]}
     if not hist:
         return None
     return max(sorted(hist), key=lambda c: rs.rooms - hist[c].get(0, 0))
@@ -107,12 +121,13 @@ def hierarchy_from_spec(
     functional_of = {r.dependent: r for r in spec.relations if r.kind == "functional"}
     instances: dict[str, list[Node]] = {}
     named = frozenset(m.category for m in spec.mentions)
+    hung = frozenset(spec.on_wall)
     rs = st.stats.room_types.get(room_type)
 
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)
         with_key = Counter({k: v for k, v in rs.layouts.items() if key in k}) or rs.layouts
-        template = [c for c in draw_counted(with_key, rng) if c not in named]
+        template = [c for c in draw_counted(with_key, rng) if split_member(c)[0] not in named]
         if config.max_objects is not None:
             asked = sum(min(m.count, MAX_COUNT) for m in spec.mentions)
             template = template[: max(0, config.max_objects - asked)]
@@ -124,7 +139,11 @@ def hierarchy_from_spec(
             m = replace(m, count=MAX_COUNT)
         sup_rel, func_rel = support_of.get(m.ref), functional_of.get(m.ref)
         nodes: list[Node] = []
-        if sup_rel is not None:
+        wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS)
+        if wall:
+            nodes = _hang(h, m, func_rel, instances)
+            sup_rel = None
+        elif sup_rel is not None:
             anchors = instances[sup_rel.anchor]
             n = m.count * len(anchors) if sup_rel.each else m.count
             for i in range(n):
@@ -136,8 +155,13 @@ def hierarchy_from_spec(
             for i in range(n):
                 a = anchors[i % len(anchors)]
                 if on_floor:  # a sofa facing a tv on a stand faces the stand, on the floor
-                    a = _floor_ancestor(h, a)
+                    a = _root_ancestor(h, a)
+                if on_wall(h.support[a.id]) and (on_floor or m.category not in MOUNTABLE):
+                    nodes.append(_beside_wall_object(h, st, m.category, a, on_floor, rng))
+                    continue
                 nodes.append(h.add(m.category, h.support[a.id], a.id))
+                if on_wall(h.support[a.id]):  # "a TV beside the painting" hangs beside it
+                    h.notes.append(f"on a wall: {nodes[-1].id} by {a.id}")
         else:
             for _ in range(m.count):
                 support = _default_support(h, st, m.category, rng)
@@ -181,11 +205,60 @@ def _is_furniture(category: str) -> bool:
     return cat is not None and cat.super in (SuperCategory.LARGE_FURNITURE, SuperCategory.FIXTURE)
 
 
-def _floor_ancestor(h: Hierarchy, node: Node) -> Node:
-    """The node itself if it stands on the floor, else the floor-standing node below it."""
+def _root_ancestor(h: Hierarchy, node: Node) -> Node:
+    """The node itself if it stands on the floor or hangs on a wall, else the node below it
+    that does."""
     by_id = h.by_id()
-    while h.support[node.id] != FLOOR:
+    while not is_root(h.support[node.id]):
         node = by_id[h.support[node.id]]
+    return node
+
+
+def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) -> list[Node]:
+    """``m``'s nodes on ``wall``, each placed relative to the text's anchor (or the object
+    on the floor or a wall under it), curtains and blinds relative to nothing; a note
+    says what hangs where."""
+    anchors = [] if func_rel is None else instances[func_rel.anchor]
+    window = m.category in WINDOW_DRESSINGS
+    if window and anchors:
+        h.notes.append(
+            f"{m.phrase!r}: {m.category} hang at a window, not relative to {anchors[0].id}"
+        )
+        anchors = []
+    n = m.count * len(anchors) if anchors and func_rel.each else m.count
+    nodes = []
+    for i in range(n):
+        a = _root_ancestor(h, anchors[i % len(anchors)]) if anchors else None
+        nodes.append(h.add(m.category, WALL, None if a is None else a.id))
+    ids = ", ".join(node.id for node in nodes)
+    where = "on walls" if len(nodes) > 1 else "on a wall"
+    if window:
+        h.notes.append(f"{where}: {ids}, at a window each")
+    elif anchors:
+        by = sorted({h.functional[node.id] for node in nodes})
+        h.notes.append(f"{where}: {ids} by {', '.join(by)}")
+    else:
+        h.notes.append(f"{where}: {ids}")
+    return nodes
+
+
+def _beside_wall_object(
+    h: Hierarchy, st: Statistics, category: str, wall_object: Node, on_floor: bool, rng
+) -> Node:
+    """A new ``category`` node the text places relative to a wall object: it stands on the
+    floor (``on_floor``) or where its category rests; a floor object becomes the wall
+    object's anchor when that has none ("a sofa facing the TV on the wall": the TV is
+    placed opposite the sofa), else the relation is dropped with a note."""
+    support = FLOOR if on_floor else _default_support(h, st, category, rng)
+    node = h.add(category, support)
+    free = wall_object.id not in h.functional and wall_object.category not in WINDOW_DRESSINGS
+    if support == FLOOR and free:
+        h.functional[wall_object.id] = node.id
+        h.notes.append(f"{wall_object.id} (on a wall) is placed relative to {node.id}")
+    else:
+        h.notes.append(
+            f"{node.id}: dropped the functional anchor {wall_object.id} (it hangs on a wall)"
+        )
     return node
 
 

@@ -2,24 +2,31 @@
 
 The prompt follows the method's published structure: the model lists the objects, the
 support tree as edges from ``"Floor"`` and the functional trees, each with its
-``support_anchor`` and ``(anchor, dependent)`` edges. The reply is checked twice: against
-a JSON schema (by :class:`pair2scene.llm.LLMClient`) and as a hierarchy
-(:meth:`Hierarchy.validate`: known categories, grounded, acyclic, functional anchors on
-the same support). A reply that fails either gets one repair round, the problem quoted
-back to the model; a second failure is a one-line :class:`HierarchyError`.
+``support_anchor`` and ``(anchor, dependent)`` edges. Wall-mounted objects (paintings,
+mirrors, curtains, blinds, wall lamps, mounted TVs) rest on ``"Wall"`` (placement picks
+which wall; ``wall:<i>`` names wall i, as in hierarchy files) and may take a Floor object
+as their functional anchor (a painting above the bed); curtains and blinds take none
+(placement hangs each at a window). The reply is checked twice: against a JSON schema (by
+:class:`pair2scene.llm.LLMClient`) and as a hierarchy (:meth:`Hierarchy.validate`: known
+categories, grounded, acyclic, functional anchors on the same support, a wall object's on
+the floor). A reply that fails either gets one repair round, the problem quoted back to
+the model; a second failure is a one-line :class:`HierarchyError`.
 """
 
 from __future__ import annotations
 
 import json
 
-from pair2scene.categories import RoomType
+from pair2scene.categories import WINDOW_DRESSINGS, RoomType
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node, object_categories
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL, on_wall
 
 LLM_FLOOR = "Floor"
 """The floor's name in the prompt's trees (the method's)."""
+LLM_WALL = "Wall"
+"""A wall's name in the prompt's trees: the support of wall-mounted objects."""
+WALL_EXAMPLES = "paintings, mirrors, curtains, blinds, wall lamps and wall-mounted TVs"
 MAX_OBJECTS_IN_REPLY = 300
 SCHEMA_NAME = "scene_hierarchy"
 ROOM_TYPES = tuple(r.value for r in RoomType)
@@ -28,9 +35,13 @@ ROOM_TYPES = tuple(r.value for r in RoomType)
 def reply_schema() -> dict:
     """JSON schema of a reply (the subset :func:`pair2scene.llm.validate_json` checks)."""
     ident = {"type": "string", "maxLength": 80}
+    support = {
+        **ident,
+        "description": f"'{LLM_FLOOR}', '{LLM_WALL}' (wall-mounted objects) or an object id",
+    }
     edge = {
         "type": "object",
-        "properties": {"parent": ident, "child": ident},
+        "properties": {"parent": support, "child": ident},
         "required": ["parent", "child"],
         "additionalProperties": False,
     }
@@ -49,7 +60,7 @@ def reply_schema() -> dict:
     tree = {
         "type": "object",
         "properties": {
-            "support_anchor": ident,
+            "support_anchor": support,
             "edges": {"type": "array", "items": func_edge, "maxItems": MAX_OBJECTS_IN_REPLY},
         },
         "required": ["support_anchor", "edges"],
@@ -78,31 +89,51 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
             {"id": "desk_0", "category": "desk"},
             {"id": "chair_0", "category": "chair"},
             {"id": "laptop_0", "category": "laptop"},
+            {"id": "painting_0", "category": "painting"},
+            {"id": "curtains_0", "category": "curtains"},
         ],
         "support_tree": [
             {"parent": LLM_FLOOR, "child": "desk_0"},
             {"parent": LLM_FLOOR, "child": "chair_0"},
             {"parent": "desk_0", "child": "laptop_0"},
+            {"parent": LLM_WALL, "child": "painting_0"},
+            {"parent": LLM_WALL, "child": "curtains_0"},
         ],
         "functional_trees": [
-            {"support_anchor": LLM_FLOOR, "edges": [{"anchor": "desk_0", "dependent": "chair_0"}]}
+            {"support_anchor": LLM_FLOOR, "edges": [{"anchor": "desk_0", "dependent": "chair_0"}]},
+            {
+                "support_anchor": LLM_WALL,
+                "edges": [
+                    {"anchor": "desk_0", "dependent": "painting_0"},
+                    {"anchor": LLM_WALL, "dependent": "curtains_0"},
+                ],
+            },
         ],
     }
     system = (
         "You plan indoor scenes for a 3D scene generator. A scene is a support tree (what "
-        "rests on what, rooted at the Floor) and, for every support with dependents, a "
-        "functional tree (which object each dependent is placed relative to, among objects "
-        "on the same support). Reply with one JSON object and nothing else."
+        "rests on what, rooted at the Floor; wall-mounted objects rest on the Wall) and, for "
+        "every support with dependents, a functional tree (which object each dependent is "
+        "placed relative to, among objects on the same support; an object on the Wall may be "
+        "placed relative to an object on the Floor). Reply with one JSON object and nothing "
+        "else."
     )
     user = (
         f"Describe this room as a scene hierarchy: {json.dumps(text)}\n\n"
         f"Rules:\n"
         f"- objects: every object once, id '<category>_<n>', category from: {cats}.\n"
-        f"- support_tree: one edge per object, parent '{LLM_FLOOR}' or an object id; "
-        "furniture rests on the Floor, small objects on furniture.\n"
+        f"- support_tree: one edge per object, parent '{LLM_FLOOR}', '{LLM_WALL}' or an "
+        "object id; furniture rests on the Floor, small objects on furniture, and "
+        f"{WALL_EXAMPLES} hang on the Wall (parent '{LLM_WALL}'; the generator picks which "
+        "wall). A TV on a TV stand or a table rests on it, not on the Wall.\n"
         "- functional_trees: one per support anchor that has dependents; an edge "
         "(anchor, dependent) when the dependent is placed relative to the anchor (a chair "
-        "at a desk, a nightstand beside a bed); both must rest on that support_anchor.\n"
+        "at a desk, a nightstand beside a bed); both must rest on that support_anchor, "
+        f"except on the '{LLM_WALL}': a wall object's anchor is an object on the Floor (a "
+        "painting above the bed, a mirror above the dresser, a TV on the wall opposite the "
+        "sofa, a wall lamp beside the bed) or on the Wall. Curtains and blinds hang at "
+        "windows, one object per window (curtains on two windows: two curtains objects), "
+        "placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
         f"room with what such a room usually holds.{limit}\n"
         f"- room_type: one of {', '.join(ROOM_TYPES)}.\n\n"
@@ -116,34 +147,60 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
     objects = reply["objects"]
     h = Hierarchy(reply["room_type"], [Node(o["id"], o["category"]) for o in objects])
     names = {o["id"] for o in objects}
+    category = {o["id"]: o["category"] for o in objects}
 
     def node_ref(name: str) -> str:
-        if name.strip().lower() == FLOOR:
+        low = name.strip().lower()
+        if low == FLOOR:
             return FLOOR
+        if low == WALL or low.startswith(WALL + ":"):
+            if not on_wall(low):
+                raise HierarchyError(
+                    f"{name!r} is not a wall: a wall is '{LLM_WALL}' (or 'wall:<index>')"
+                )
+            return low
         if name not in names:
             raise HierarchyError(f"{name!r} is used in a tree but is not among the objects")
         return name
 
     for e in reply["support_tree"]:
         child = node_ref(e["child"])
-        if child == FLOOR:
-            raise HierarchyError("the Floor cannot rest on anything")
+        if _room_part(child):
+            raise HierarchyError(f"the {child.capitalize()} cannot rest on anything")
         if child in h.support:
             raise HierarchyError(f"{child!r} has two supports in support_tree")
         h.support[child] = node_ref(e["parent"])
     for t in reply["functional_trees"]:
         root = node_ref(t["support_anchor"])
+        where = f"functional tree of {t['support_anchor']!r}"
         for e in t["edges"]:
             anchor, dep = node_ref(e["anchor"]), node_ref(e["dependent"])
-            if dep == FLOOR:
-                raise HierarchyError("the Floor cannot be a functional dependent")
+            if _room_part(dep):
+                raise HierarchyError(f"the {dep.capitalize()} cannot be a functional dependent")
             if h.support.get(dep) != root:
-                raise HierarchyError(
-                    f"functional tree of {t['support_anchor']!r}: {dep!r} does not rest on it"
+                raise HierarchyError(f"{where}: {dep!r} does not rest on it")
+            if anchor == root:
+                continue
+            if on_wall(root) and category[dep] in WINDOW_DRESSINGS:
+                h.notes.append(
+                    f"{dep}: dropped the functional anchor {anchor} ({category[dep]} hang at "
+                    "a window)"
                 )
-            if anchor != root:
-                h.functional[dep] = anchor
+                continue
+            below = h.support.get(anchor)
+            if on_wall(root) and below is not None and below not in (FLOOR, root):
+                raise HierarchyError(
+                    f"{where}: {dep!r} hangs on a wall, its anchor must stand on the "
+                    f"{LLM_FLOOR} or hang on that wall, but {anchor!r} rests on {below!r}"
+                )
+            h.functional[dep] = anchor
     return h.validate()
+
+
+def _room_part(ref: str) -> bool:
+    """Whether a tree reference is the floor or a wall (as :func:`hierarchy_from_reply`'s
+    references come: ``floor``, ``wall``, ``wall:...``), not an object."""
+    return ref in (FLOOR, WALL) or ref.startswith(WALL + ":")
 
 
 def hierarchy_from_llm(client, text: str, max_objects: int | None = None) -> Hierarchy:

@@ -2,9 +2,12 @@
 
 ``synthesize(stats, "bedroom", SynthesisConfig(mode="fit", seed=0))``:
 
-1. **Base template**: a multiset of floor furniture drawn from the room type's curated
-   templates, weighted by how many training rooms had it. Functional anchors among the
-   floor furniture (chairs at the desk) are drawn from the floor's functional statistics.
+1. **Base template**: a multiset of floor furniture and wall objects (``painting@wall``)
+   drawn from the room type's curated templates, weighted by how many training rooms had
+   it. Functional anchors among the floor furniture (chairs at the desk) are drawn from
+   the floor's functional statistics; wall objects rest on ``wall`` (placement picks
+   which) and take a floor object as their anchor with the walls' statistics (a painting
+   above the bed).
 2. **Expansion queue**: breadth-first over the nodes. For a popped leaf ``a`` every
    dependent category ``d`` the statistics have seen resting on ``a``'s category is a
    candidate, added with probability ``k * freq / total`` where ``freq`` is how often
@@ -38,12 +41,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pair2scene.categories import BY_NAME
-from pair2scene.curation.stats import HierarchyStats, draw_counted
+from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
+from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import NOT_OBJECTS, Hierarchy, Node
 from pair2scene.resources import load_table, table_path
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL
 
 MODES = ("fit", "beyond")
 DEFAULT_BEYOND_OBJECTS = 80
@@ -137,12 +140,27 @@ class Statistics:
         """Categories that rest on the floor in most of their training instances (furniture,
         counters): never expanded onto another object."""
 
+    @classmethod
+    def for_room(cls, stats: HierarchyStats, room_type: str) -> tuple[Statistics, object]:
+        """The statistics a ``room_type`` room is drawn with, and its room-level ones
+        (templates, object counts): a trained type's own; for a composed type
+        (:mod:`pair2scene.hierarchy.room_types`: an office from living rooms and bedrooms
+        with desks and no bed) its view of the shared statistics (a chair takes the desk,
+        no excluded category is added: :func:`~pair2scene.hierarchy.room_types.room_view`)
+        and its composed rooms. A type neither trained nor composable is a UserError
+        listing both."""
+        from pair2scene.hierarchy import room_types as composed
+
+        rs = stats.room_types.get(room_type)
+        if rs is not None and rs.layouts:
+            return cls(stats), rs
+        if room_type not in composed.composable(stats):
+            raise UserError(composed.unknown_message(stats, room_type))
+        return cls(composed.room_view(stats, room_type)), composed.compose(stats, room_type)
+
     def room(self, room_type: str):
-        rs = self.stats.room_types.get(room_type)
-        if rs is None or not rs.layouts:
-            known = ", ".join(sorted(self.stats.room_types))
-            raise UserError(f"unknown room type {room_type!r}; the statistics know: {known}")
-        return rs
+        """The room-level statistics of ``room_type`` (:meth:`for_room`)."""
+        return Statistics.for_room(self.stats, room_type)[1]
 
     def dependents(self, anchor: str) -> list[tuple[str, float]]:
         """(category, rate per anchor instance) of every object seen resting on ``anchor``."""
@@ -155,6 +173,7 @@ class Statistics:
             for d, n in sorted(deps.items())
             if d in BY_NAME
             and BY_NAME[d].super not in NOT_OBJECTS
+            and BY_NAME[d].super is not SuperCategory.WALL_OBJECT  # they hang on walls
             and (anchor == FLOOR or d not in self.floor_standing)
         ]
 
@@ -208,12 +227,21 @@ def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
     return sorted(categories, key=key)
 
 
-def add_floor_furniture(h: Hierarchy, categories: list[str], stats: Statistics, rng) -> None:
-    """Add floor furniture in anchor-first order, each with a drawn functional anchor."""
-    for cat in anchor_first(categories, stats):
+def add_floor_furniture(h: Hierarchy, members: list[str], stats: Statistics, rng) -> None:
+    """Add a template's members: floor furniture in anchor-first order, each with a drawn
+    functional anchor, then its wall objects (``<category>@wall``) on ``wall``, each with
+    a floor object as its anchor drawn from the walls' statistics (or none)."""
+    split = [split_member(m) for m in members]
+    floor = [c for c, mounted in split if not mounted]
+    for cat in anchor_first(floor, stats):
         siblings = [n for n in h.children(FLOOR) if n.id not in h.functional]
         anchor = stats.functional_choice(FLOOR, cat, siblings, rng)
         h.add(cat, FLOOR, None if anchor is None else anchor.id)
+    for cat in sorted(c for c, mounted in split if mounted):
+        anchor = None
+        if cat not in WINDOW_DRESSINGS:  # those hang at a window
+            anchor = stats.functional_choice(WALL, cat, h.children(FLOOR), rng)
+        h.add(cat, WALL, None if anchor is None else anchor.id)
 
 
 def expand(
@@ -265,8 +293,7 @@ def synthesize(
     stats: HierarchyStats | None, room_type: str, config: SynthesisConfig = SynthesisConfig()
 ) -> Hierarchy:
     """A hierarchy for ``room_type`` (see the module docstring); ``stats`` None: bundled."""
-    st = Statistics(load_stats() if stats is None else stats)
-    rs = st.room(room_type)
+    st, rs = Statistics.for_room(load_stats() if stats is None else stats, room_type)
     rng = np.random.default_rng(config.seed)
     h = Hierarchy(room_type)
     # A training room with no furniture would give an empty scene: a room is drawn from
@@ -301,14 +328,19 @@ def capacity(st: Statistics, category: str, load: float = BEYOND_LOAD) -> float:
     return load * sum(rate for _, rate in st.dependents(category))
 
 
+def furnished(layout: tuple[str, ...]) -> bool:
+    """Whether a template holds floor furniture (not only wall objects)."""
+    return any(not split_member(m)[1] for m in layout)
+
+
 def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
     """A furnished training room's template and (``with_count``) object count."""
-    joint = Counter({k: v for k, v in rs.layout_counts.items() if k[0]})
+    joint = Counter({k: v for k, v in rs.layout_counts.items() if furnished(k[0])})
     if with_count and joint:
         layout, count = draw_counted(joint, rng)
         return list(layout), int(count)
-    template = list(draw_counted(Counter({k: v for k, v in rs.layouts.items() if k}) or rs.layouts,
-                          rng))  # fmt: skip
+    rooms = Counter({k: v for k, v in rs.layouts.items() if furnished(k)}) or rs.layouts
+    template = list(draw_counted(rooms, rng))
     if not with_count:
         return template, 0
     counts = Counter({k: v for k, v in rs.object_counts.items() if k >= len(template)})

@@ -18,6 +18,12 @@ on; functional: placed relative to). It is deterministic and needs no network:
    relate to its head, "on"/"around"-like cues relate the trailing items of the current
    list to their anchor.
 
+Walls and windows are room features, never mentions, but they say where things hang: "on
+the wall" (and "wall-mounted", "mounted", "a wall mirror") puts a mention that can hang
+(:data:`MOUNTABLE`: the wall objects, a TV, towel rails) on a wall, and a mention of
+curtains or blinds related to windows hangs at them, one per window ("curtains on the
+windows": two). Those mentions are listed in :attr:`TextSpec.on_wall`.
+
 Words that look like objects but are not understood go to :attr:`TextSpec.unparsed`.
 """
 
@@ -29,7 +35,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
-from pair2scene.categories import BY_NAME, CATEGORIES, RoomType, SuperCategory
+from pair2scene.categories import BY_NAME, CATEGORIES, WINDOW_DRESSINGS, RoomType, SuperCategory
 from pair2scene.errors import UserError
 
 SUPPORT = "support"
@@ -92,6 +98,11 @@ class TextSpec:
     unparsed: tuple[str, ...]
     """Content words or phrases that were not understood (for a warning), e.g.
     ``("spaceship",)``."""
+    on_wall: tuple[str, ...] = ()
+    """The :attr:`Mention.ref` s the text hangs on a wall ("a mirror on the wall", "a
+    wall-mounted TV", "curtains on the windows"), in order of appearance. A mention here
+    has no support relation; it may have a functional one ("a TV on the wall opposite the
+    sofa")."""
 
 
 # -- tables ---------------------------------------------------------------------------------
@@ -246,6 +257,22 @@ SEAT_CUES = ("for", "for up to", "seats", "seats up to", "seating", "seating for
 # Words that may follow the number of seats ("for eight people").
 SEAT_PEOPLE = ("people", "persons", "person", "guests", "diners", "adults", "kids", "children")
 
+WALL_OBJECTS = frozenset(c.name for c in CATEGORIES if c.super is SuperCategory.WALL_OBJECT)
+"""Categories that always hang on a wall unless the text puts them on something ("a
+painting above the sofa" hangs above it)."""
+MOUNTABLE = WALL_OBJECTS | {"television", "towel_holder", "toilet_paper_hanger"}
+"""Categories that hang on a wall when the text says so ("a TV on the wall"): the wall
+objects, televisions and the fixtures the curated rooms mount (towel rails). Anything else
+"on the wall" keeps its usual support (a shelf on the wall stands against it)."""
+WALL_LAMP = "wall_lamp"
+"""What the generic "lamp" becomes on a wall ("a lamp on the wall")."""
+WALLS_PER_ROOM = 4
+"""What "each wall" / "every wall" / "all the walls" counts (a rectangular room)."""
+WINDOW, WALL = "window", "wall"
+"""The room features (structure categories) that carry objects."""
+# Words saying that the noun phrase they are in, or the one before them, hangs on a wall.
+MOUNT_WORDS = ("mounted", "wall mounted", "wall hung")
+
 
 @dataclass(frozen=True)
 class _Cue:
@@ -323,7 +350,7 @@ IGNORED_WORDS = frozenset("""
     generate design build give show render imagine put place add set arrange there here is
     are was be being been should could can will must may might let lets get do does to also
     too just only which who where whose as so then sitting standing resting placed
-    positioned located arranged hanging mounted lying stacked tucked pushed stands
+    positioned located arranged hanging hung hang lying stacked tucked pushed stands
     rests hangs room rooms space area corner middle center centre side sides left right
     front back rear end top bottom edge spot furniture furnishings stuff things thing items
     item objects object scene layout setup up down out off away together nearby somewhere
@@ -333,9 +360,9 @@ IGNORED_WORDS = frozenset("""
 
 # -- tokens ---------------------------------------------------------------------------------
 
-NOUN, DET, NUM, CUE, PRON, CONJ, SEP, SEAT, PEOPLE, OF, MOD, SKIP, UNK = (
+NOUN, DET, NUM, CUE, PRON, CONJ, SEP, SEAT, PEOPLE, OF, MOD, SKIP, UNK, MOUNT = (
     "noun", "det", "num", "cue", "pron", "conj", "sep", "seat", "people", "of", "mod", "skip",
-    "unk",
+    "unk", "mount",
 )  # fmt: skip
 OBJECT, GENERIC, ROOM, FEATURE = "object", "generic", "room", "feature"
 
@@ -453,6 +480,7 @@ def _lexicon() -> _Lexicon:
         (CUE, {f"{q} {p}": _Cue(c.kind, head_first=True, each=True, fill=c.fill)
                for p, c in HEAD_CUES.items() for q in ("each", "both") if c.kind != NEGATE}),
         (OF, {"of": "of"}),
+        (MOUNT, {w: w for w in MOUNT_WORDS}),
     ]  # fmt: skip
     for kind, table in tables:
         lex.update({_key(phrase): (kind, value) for phrase, value in table.items()})
@@ -507,6 +535,9 @@ class _NP:
     phrase: str
     content: _NP | None = None
     """What an "of" phrase says it holds ("a bowl of fruit": fruit)."""
+    mounted: bool = False
+    """The phrase says its object hangs on a wall ("a wall-mounted TV", "a TV mounted ...",
+    "a wall mirror")."""
 
 
 @dataclass(frozen=True)
@@ -526,15 +557,21 @@ class _Mark:
     """COMMA, a conjunction, or SEP."""
 
 
-_Element = _NP | _Pron | _Cue | _Seat | _Mark
-_NP_START = frozenset({DET, NUM, MOD, UNK, NOUN})
-_NP_BODY = frozenset({MOD, UNK, NOUN})
+@dataclass(frozen=True)
+class _Mount:
+    """A mount word without a noun phrase of its own ("the TV is wall mounted"): the latest
+    object hangs on a wall."""
+
+
+_Element = _NP | _Pron | _Cue | _Seat | _Mark | _Mount
+_NP_START = frozenset({DET, NUM, MOD, UNK, NOUN, MOUNT})
+_NP_BODY = frozenset({MOD, UNK, NOUN, MOUNT})
 _DET_STRENGTH = (INDEF, DEF, BOTH, EACH, ANOTHER, NEG)
 
 
-def _noun_phrase(text: str, toks: list[_Tok], i: int) -> tuple[_NP | _Pron | None, int]:
+def _noun_phrase(text: str, toks: list[_Tok], i: int) -> tuple[_NP | _Pron | _Mount | None, int]:
     """The noun phrase starting at ``toks[i]`` (or the pronoun an elliptic "each" or "one"
-    stands for) and the index after it."""
+    stands for, or a lone mount word) and the index after it."""
     start = toks[i].start
     det: str | None = None
     count: int | None = None
@@ -554,12 +591,17 @@ def _noun_phrase(text: str, toks: list[_Tok], i: int) -> tuple[_NP | _Pron | Non
         det = NEG
     heads = [k for k, tok in enumerate(body) if tok.kind == NOUN]
     unknown = [tok for tok in body if tok.kind == UNK]
+    mount = any(tok.kind == MOUNT for tok in body)
     if heads:
         h = heads[-1]
         after = [tok for tok in body[h + 1 :] if tok.kind == UNK]
         end = after[-1].end if after else body[h].end
         trailing = tuple(tok.value for tok in after)
-        return _NP(det, count, body[h].value, (), trailing, text[start:end]), i
+        # "a wall mirror", "a wall clock": the feature word before the head is where it hangs
+        mount = mount or any(
+            tok.kind == NOUN and tok.value == _Noun(FEATURE, WALL) for tok in body[:h]
+        )
+        return _NP(det, count, body[h].value, (), trailing, text[start:end], None, mount), i
     if unknown:
         words = tuple(tok.value for tok in unknown)
         return _NP(det, count, None, words, (), text[start : unknown[-1].end]), i
@@ -567,6 +609,8 @@ def _noun_phrase(text: str, toks: list[_Tok], i: int) -> tuple[_NP | _Pron | Non
         return _Pron(EACH), i
     if count is not None and det != NEG:
         return _Pron(ONE), i
+    if mount and det is None and count is None:
+        return _Mount(), i
     return None, i
 
 
@@ -621,7 +665,10 @@ def _seat_phrase(text: str, toks: list[_Tok], i: int, start: int) -> tuple[_Seat
 _ROOM = "room"
 """The room itself, as a head or pronoun referent: relates nothing."""
 _NOTHING = ""
-"""A head that relates nothing: a room feature ("the wall") or words not understood."""
+"""A head that relates nothing: a room feature ("the floor") or words not understood."""
+_FEATURES = {WALL: "@wall", WINDOW: "@window"}
+"""Walls and windows as heads and anchors: they relate nothing, but what is put on them
+hangs on a wall (:meth:`_Parser._hang_on`)."""
 
 
 @dataclass
@@ -629,6 +676,14 @@ class _Object:
     category: str
     count: int
     phrase: str
+    generic: str | None = None
+    """The generic noun that named it ("lamp"), if one did."""
+    counted: bool = False
+    """The text gave its count ("two curtains"): the windows it hangs at do not change it."""
+    wall: bool = False
+    """It hangs on a wall."""
+    per_feature: bool = False
+    """Its count already follows the walls or windows it hangs on."""
 
 
 @dataclass
@@ -660,6 +715,10 @@ class _Parser:
     last_each: bool = False
     negated: bool = False
     pending: _Cue | None = None
+    features: dict[str, _NP] = field(default_factory=dict)
+    """The latest phrase naming each of :data:`_FEATURES` ("the windows")."""
+    cued: tuple[str | None, list[str]] = (None, [])
+    """The anchor and dependents of the latest cue that related objects."""
 
     def run(self, elements: list[_Element]) -> None:
         """Reads the elements in order; a dependent-first cue waits for its anchor."""
@@ -683,9 +742,9 @@ class _Parser:
         relations = tuple(
             Relation(k, d, a, each) for (k, d, a), (each, _) in self.relations.items()
         )
-        return TextSpec(
-            text, self.room_type, mentions, relations, tuple(dict.fromkeys(self.unparsed))
-        )
+        on_wall = tuple(ref for ref, o in self.objects.items() if o.wall)
+        unparsed = tuple(dict.fromkeys(self.unparsed))
+        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall)
 
     # -- elements
 
@@ -699,6 +758,11 @@ class _Parser:
             self._open(el)
         elif isinstance(el, _Seat):
             self._seat(el)
+        elif isinstance(el, _Mount):
+            if self.last in self.objects and not self.negated and not self._hang(self.last):
+                if self.last == self.cued[0]:  # "a TV above the dresser, wall mounted"
+                    for dep in self.cued[1]:
+                        self._hang(dep)
         elif el.kind == COMMA:
             if len(self.stack) > 1 and self.stack[-2].ref is not None:
                 self.stack.pop()
@@ -762,6 +826,14 @@ class _Parser:
             each = kind == EACH or (anchor is not None and anchor == head.ref and head.each)
         run = self._run(anchor)
         self.placed.update(run)
+        if anchor in self.features and isinstance(target, _NP):
+            args = (cue.kind == SUPPORT, target.det in (EACH, BOTH))
+            if not [dep for dep in run if self._hang_on(anchor, dep, *args)]:
+                # "a lamp beside the bed on the wall": the bed does not hang, the lamp does
+                if run == self.group == [self.cued[0]]:
+                    for dep in self.cued[1]:
+                        self._hang_on(anchor, dep, *args)
+            return
         if anchor not in self.objects:
             return
         if created:
@@ -770,6 +842,7 @@ class _Parser:
             for dep in run:
                 if self._relate(cue.kind, dep, anchor, each, explicit=True) and cue.pair:
                     self.objects[dep].count = max(self.objects[dep].count, 2)
+        self.cued = (anchor, run)
         self.placed.add(anchor)
         self.group = [anchor]
         self.last, self.last_each = anchor, each
@@ -807,15 +880,24 @@ class _Parser:
             self._touch(_ROOM)
             return _ROOM, False
         if np.noun.kind == FEATURE:
-            return _NOTHING, False
+            feature = _FEATURES.get(np.noun.value)
+            if feature is None:
+                return _NOTHING, False
+            self.features[feature] = np
+            return feature, False
         reference = np.det != ANOTHER and (anchor or np.det in (DEF, EACH, BOTH))
         category = self._category(np.noun, reference)
         ref = self._recent(lambda o: o.category == category) if reference else None
         created = ref is None
         if ref is None:
             ref = self._new(category, self._count(np, plural), np.phrase)
+            obj = self.objects[ref]
+            obj.counted = np.count is not None
+            obj.generic = np.noun.value if np.noun.kind == GENERIC else None
         else:
             self._touch(ref)
+        if np.mounted:
+            self._hang(ref)
         if np.content is not None:
             self._content(ref, np.content)
         return ref, created
@@ -899,6 +981,9 @@ class _Parser:
         anything else is placed relative to it (unless the cue says which). An item of the
         head's own category ("a desk with a lamp, a desk with a laptop") does not."""
         head = self.stack[-1]
+        if head.ref in self.features and head.cue is not None:  # "a window with curtains"
+            self._hang_on(head.ref, ref, head.cue.kind != FUNCTIONAL, head.each)
+            return
         if head.ref not in self.objects or head.cue is None:
             return
         if self.objects[head.ref].category == self.objects[ref].category:
@@ -916,6 +1001,11 @@ class _Parser:
         never replaces anything."""
         if dep == anchor or dep in self._anchors_of(anchor):
             return False
+        if kind == SUPPORT and self.objects[dep].wall:
+            if not explicit:  # "a bed with a wall-mounted TV": by the bed, on a wall
+                kind = FUNCTIONAL
+            else:  # the text puts it on something after all: the latest word wins
+                self.objects[dep].wall = False
         mine = {key: value for key, value in self.relations.items() if key[1] == dep}
         if explicit:
             for key, (_, was_explicit) in mine.items():
@@ -924,6 +1014,56 @@ class _Parser:
         elif mine:
             return False
         self.relations[(kind, dep, anchor)] = (each, explicit)
+        return True
+
+    def _hang(self, ref: str) -> bool:
+        """Hangs a mention on a wall (a generic lamp becomes a wall lamp); False when its
+        category does not hang (:data:`MOUNTABLE`). Its support relation becomes a
+        functional one unless it has one ("a desk with a lamp on the wall": by the desk)."""
+        obj = self.objects[ref]
+        if obj.category not in MOUNTABLE:
+            if obj.generic != "lamp":
+                return False
+            obj.category = WALL_LAMP
+        obj.wall = True
+        for key in [key for key in self.relations if key[0] == SUPPORT and key[1] == ref]:
+            each, explicit = self.relations.pop(key)
+            if not any(k[0] == FUNCTIONAL and k[1] == ref for k in self.relations):
+                self.relations[(FUNCTIONAL, ref, key[2])] = (each, explicit)
+        return True
+
+    def _hang_on(self, feature: str, ref: str, support: bool, each: bool) -> bool:
+        """A mention put on a wall ("on the wall": ``support``) or related to windows (any
+        cue, curtains and blinds only) hangs on a wall; its count follows the walls or
+        windows: per wall or window for each/both ("a painting on every wall", "curtains
+        on both windows"), and one per window named when the text gave no count of its own
+        ("curtains on the windows": two). Whether it hangs."""
+        obj = self.objects[ref]
+        if feature == _FEATURES[WINDOW]:
+            if obj.category not in WINDOW_DRESSINGS:
+                return False  # "a desk by the window": where it stands, as before
+        elif not support:
+            return False  # "a bed against the wall"
+        if not self._hang(ref):
+            return False
+        if obj.per_feature:
+            return True
+        np = self.features[feature]
+        each = each or np.det in (EACH, BOTH)
+        if np.count is not None:
+            n = np.count
+        elif np.det == EACH:
+            n = WALLS_PER_ROOM if feature == _FEATURES[WALL] else EACH_COUNT
+        elif np.det == BOTH or (np.noun is not None and np.noun.plural):
+            n = PLURAL_COUNT
+        else:
+            n = 1
+        if each:
+            obj.count *= max(n, 1)
+            obj.per_feature = True
+        elif feature == _FEATURES[WINDOW] and not obj.counted:
+            obj.count = max(obj.count, n)
+            obj.per_feature = True
         return True
 
     def _anchors_of(self, ref: str) -> set[str]:
@@ -978,12 +1118,14 @@ def _check_tables() -> None:
     bad = sorted(
         name
         for name in (*EXTRA_SYNONYMS.values(), *GENERIC_ROOM_DEFAULTS.values(), *CONTAINERS,
-                     *SEAT_TARGETS, *SEAT_TARGETS.values(),
-                     *(c for options in GENERIC_NOUNS.values() for c in options))
+                     *SEAT_TARGETS, *SEAT_TARGETS.values(), *MOUNTABLE, *WINDOW_DRESSINGS,
+                     WALL_LAMP, *(c for options in GENERIC_NOUNS.values() for c in options))
         if name not in BY_NAME
         or BY_NAME[name].super in (SuperCategory.STRUCTURE, SuperCategory.PART)
     )  # fmt: skip
-    if bad:  # a programming error in this module, caught by its tests on import
+    features = [f for f in _FEATURES if BY_NAME.get(f) is None or BY_NAME[f].super
+                is not SuperCategory.STRUCTURE]  # fmt: skip
+    if bad or features or not WINDOW_DRESSINGS <= MOUNTABLE:  # a programming error here
         raise AssertionError(f"text tables name unknown or non-object categories: {bad}")
 
 

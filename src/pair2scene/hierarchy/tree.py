@@ -5,7 +5,9 @@ A :class:`Hierarchy` is the structure of a scene before any placement: which obj
 it is placed relative to (``functional``: an object on the same support, optional).
 
 - The **support tree** has the floor as its root and an edge support -> dependent for
-  every node.
+  every node. Wall-mounted objects (a painting, a mirror, curtains) rest on a wall: ``wall``
+  (placement picks which) or ``wall:<i>`` (the room's wall i); walls are roots beside the
+  floor, after it in every order.
 - A **functional tree** exists for every support node (the floor included) that has
   dependents. It is rooted at that support; a dependent with a functional anchor hangs
   under its anchor, one without hangs under the root. Every node of it rests on its
@@ -29,7 +31,7 @@ from dataclasses import dataclass, field
 
 from pair2scene.categories import BY_NAME, SuperCategory
 from pair2scene.errors import UserError
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall, wall_index
 
 HIERARCHY_FORMAT = "pair2scene.hierarchy"
 HIERARCHY_VERSION = 1
@@ -58,9 +60,11 @@ class SequenceItem:
 
     dependent: Node
     support: str
-    """``floor`` or a node id placed earlier in the sequence."""
+    """``floor``, a wall (``wall``, ``wall:<i>``) or a node id placed earlier in the
+    sequence."""
     functional: str | None
-    """A node id placed earlier, resting on the same support; None without one."""
+    """A node id placed earlier, resting on the same support (a wall-mounted object's may
+    stand on the floor); None without one."""
 
 
 @dataclass(frozen=True)
@@ -81,7 +85,8 @@ class Hierarchy:
     room_type: str
     nodes: list[Node] = field(default_factory=list)
     support: dict[str, str] = field(default_factory=dict)
-    """node id -> ``floor`` or the id of the node it rests on."""
+    """node id -> ``floor``, a wall (``wall``: placement picks it; ``wall:<i>``) or the id
+    of the node it rests on."""
     functional: dict[str, str] = field(default_factory=dict)
     """node id -> the id of its functional anchor (only nodes that have one)."""
     notes: list[str] = field(default_factory=list)
@@ -149,13 +154,17 @@ class Hierarchy:
             parent = self.support.get(n.id)
             if parent is None:
                 raise HierarchyError(f"node {n.id!r} has no support")
-            if parent != FLOOR and parent not in seen:
+            if parent.startswith(WALL) and not on_wall(parent) and parent not in seen:
+                raise HierarchyError(
+                    f"node {n.id!r} rests on {parent!r}: a wall is 'wall' or 'wall:<index>'"
+                )
+            if not is_root(parent) and parent not in seen:
                 raise HierarchyError(f"node {n.id!r} rests on {parent!r}, which is not a node")
             if parent == n.id:
                 raise HierarchyError(f"node {n.id!r} rests on itself")
-        for n in self.nodes:  # grounded: every chain of supports reaches the floor
+        for n in self.nodes:  # grounded: every chain of supports reaches the floor or a wall
             chain, at = [n.id], self.support[n.id]
-            while at != FLOOR:
+            while not is_root(at):
                 if at in chain:
                     cycle = " -> ".join([*chain[chain.index(at) :], at])
                     raise HierarchyError(f"support cycle: {cycle} (never reaches the floor)")
@@ -168,7 +177,8 @@ class Hierarchy:
                 raise HierarchyError(
                     f"node {node_id!r}: functional anchor {anchor!r} is not a node"
                 )
-            if self.support[anchor] != self.support[node_id]:
+            mounted = on_wall(self.support[node_id]) and self.support[anchor] == FLOOR
+            if self.support[anchor] != self.support[node_id] and not mounted:
                 raise HierarchyError(
                     f"node {node_id!r} rests on {self.support[node_id]!r} but its functional "
                     f"anchor {anchor!r} rests on {self.support[anchor]!r}: a functional "
@@ -186,9 +196,15 @@ class Hierarchy:
 
     # -- trees and order ------------------------------------------------------------------
 
+    def roots(self) -> list[str]:
+        """The roots of the support tree: the floor, then every wall a node rests on
+        (``wall`` before ``wall:<i>`` by index)."""
+        walls = {s for s in self.support.values() if on_wall(s)}
+        return [FLOOR, *sorted(walls, key=lambda w: (wall_index(w) or -1, w))]
+
     def support_edges(self) -> list[tuple[str, str]]:
-        """(parent, child) edges of the support tree, breadth-first from the floor."""
-        out, queue = [], deque([FLOOR])
+        """(parent, child) edges of the support tree, breadth-first from the roots."""
+        out, queue = [], deque(self.roots())
         while queue:
             parent = queue.popleft()
             for child in self.children(parent):
@@ -203,19 +219,21 @@ class Hierarchy:
 
     def functional_trees(self) -> list[FunctionalTree]:
         """One tree per support that has dependents, in breadth-first support order."""
-        supports = [FLOOR, *(child for _, child in self.support_edges())]
+        supports = [*self.roots(), *(child for _, child in self.support_edges())]
         return [self.functional_tree(s) for s in supports if self.children(s)]
 
     def sequence(self) -> list[SequenceItem]:
         """The placement order: BFS over supports, DFS over each functional tree."""
         by_id = self.by_id()
         out: list[SequenceItem] = []
-        queue = deque([FLOOR])
+        queue = deque(self.roots())
         while queue:
             support = queue.popleft()
             tree = self.functional_tree(support)
             below: dict[str, list[str]] = {}
             for anchor, dep in tree.edges:
+                if self.support.get(anchor) != support:  # a floor anchor of a wall object
+                    anchor = support
                 below.setdefault(anchor, []).append(dep)
             stack = list(reversed(below.get(support, [])))
             while stack:
@@ -231,6 +249,7 @@ class Hierarchy:
         """The hierarchy as JSON types: nodes, support_tree, functional_trees, sequence."""
         cat = {n.id: n.category for n in self.nodes}
         cat[FLOOR] = FLOOR
+        cat.update({w: WALL for w in self.roots()[1:]})
 
         def ref(node_id: str | None) -> dict | None:
             return None if node_id is None else {"id": node_id, "category": cat[node_id]}

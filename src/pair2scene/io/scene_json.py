@@ -2,6 +2,13 @@
 
 Reading never raises anything but :class:`SceneFileError` for a bad file; its
 message is one line naming the file and the field (``objects[3].rotation``).
+
+An object's ``support`` is ``floor``, ``wall:<i>`` (hung on wall i: the edge from
+``floor_polygon[i]`` to ``floor_polygon[i + 1]``, 0 <= i < the number of vertices) or
+another object's id. ``wall`` alone (a hierarchy's "wall not chosen yet") and any other
+``wall:...`` are errors. The room keeps its polygon counter-clockwise: a clockwise
+``floor_polygon`` is reversed on reading and every ``wall:<i>`` is renumbered to name the
+same edge, so a file written back names its walls in the counter-clockwise order.
 """
 
 from __future__ import annotations
@@ -10,6 +17,7 @@ import json
 import math
 import os
 import re
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +27,17 @@ from pair2scene.categories import BY_NAME, UNKNOWN
 from pair2scene.errors import SceneFileError
 from pair2scene.io.atomic import atomic_write_text
 from pair2scene.scene.geometry import OrientedBox, is_rotation, polygon_area
-from pair2scene.scene.model import FLOOR, AssetRef, Opening, Room, Scene, SceneObject
+from pair2scene.scene.model import (
+    FLOOR,
+    WALL,
+    AssetRef,
+    Opening,
+    Room,
+    Scene,
+    SceneObject,
+    is_root,
+    wall_support,
+)
 
 FORMAT = "pair2scene.scene"
 VERSION = 1
@@ -29,6 +47,11 @@ MIN_OPENING_WIDTH = 1e-3
 """m; a door or window narrower than this is a data error."""
 MIN_FLOOR_AREA = 1e-4
 """m^2; below this a floor polygon is degenerate (collinear or repeated points)."""
+MIN_WALL_LENGTH = 1e-3
+"""m; an edge of the floor polygon shorter than this (a repeated vertex) is no wall an
+object can hang on (:func:`pair2scene.scene.walls.walls_of` leaves it out too)."""
+_WALL_SUPPORT = re.compile(r"wall:(0|[1-9][0-9]*)", re.ASCII)
+"""The one spelling of a wall support: ``wall:<i>``, i a decimal without leading zeros."""
 
 
 # -- writing -------------------------------------------------------------------------
@@ -264,12 +287,40 @@ def _object(c: _Check, d: Any, field: str) -> SceneObject:
     )
 
 
-def _links(c: _Check, objects: list[SceneObject]) -> None:
+def _wall_support(c: _Check, ref: str, polygon: np.ndarray, field: str) -> None:
+    """Check a support id that names a wall (``wall`` or ``wall:...``) against the floor
+    polygon (N, 2) as the file lists it."""
+    n = len(polygon)
+    valid = f"'wall:<i>' with 0 <= i < {n} (the floor polygon's {n} edges)"
+    if ref == WALL:
+        raise c.fail(field, f"'wall' (no wall chosen) is only valid in hierarchies: use {valid}")
+    m = _WALL_SUPPORT.fullmatch(ref)
+    if m is None:
+        raise c.fail(field, f"malformed wall support {ref!r}: must be {valid}")
+    i = int(m.group(1))
+    if i >= n:
+        raise c.fail(field, f"wall index {i} out of range: must be {valid}")
+    a, b = polygon[i], polygon[(i + 1) % n]
+    if np.hypot(*(b - a)) < MIN_WALL_LENGTH:
+        j = (i + 1) % n
+        raise c.fail(field, f"wall {i} has no length (floor_polygon[{j}] repeats [{i}])")
+
+
+def _names_wall(ref: str | None) -> bool:
+    """Whether a support id is meant as a wall: ``wall`` or ``wall:...`` (object ids such
+    as ``wall_shelf_0`` are not)."""
+    return isinstance(ref, str) and (ref == WALL or ref.startswith(WALL + ":"))
+
+
+def _links(c: _Check, objects: list[SceneObject], polygon: np.ndarray) -> None:
     ids = {o.id: i for i, o in enumerate(objects)}
     for i, o in enumerate(objects):
         for key in ("support", "functional_anchor", "part_of"):
             ref = getattr(o, key)
             if ref is None or (key == "support" and ref == FLOOR):
+                continue
+            if key == "support" and _names_wall(ref):
+                _wall_support(c, ref, polygon, f"objects[{i}].support")
                 continue
             if ref == o.id:
                 raise c.fail(f"objects[{i}].{key}", f"object {o.id!r} refers to itself")
@@ -278,11 +329,25 @@ def _links(c: _Check, objects: list[SceneObject]) -> None:
     parent = {o.id: o.support for o in objects}
     for i, o in enumerate(objects):
         seen, cur = {o.id}, o.support
-        while cur not in (None, FLOOR):
+        while cur is not None and not is_root(cur):  # the floor and walls end a chain
             if cur in seen:
                 raise c.fail(f"objects[{i}].support", f"support cycle through {o.id!r}")
             seen.add(cur)
             cur = parent[cur]
+
+
+def _renumber_walls(objects: list[SceneObject], n: int) -> list[SceneObject]:
+    """``objects`` with every ``wall:<j>`` support, an edge of a clockwise polygon of ``n``
+    vertices as the file lists it, renamed after the same edge of the reversed
+    (counter-clockwise) polygon the room keeps: file edge j (vertex j to j + 1) is the
+    reversed polygon's edge n - 2 - j (mod n)."""
+    out = []
+    for o in objects:
+        m = _WALL_SUPPORT.fullmatch(o.support) if isinstance(o.support, str) else None
+        if m is not None:
+            o = replace(o, support=wall_support((n - 2 - int(m.group(1))) % n))
+        out.append(o)
+    return out
 
 
 def scene_from_dict(d: Any, origin: str = "<scene>") -> Scene:
@@ -308,9 +373,14 @@ def scene_from_dict(d: Any, origin: str = "<scene>") -> Scene:
             raise c.fail(f"objects[{i}].id", f"duplicate id {o.id!r}")
         if o.id == FLOOR:
             raise c.fail(f"objects[{i}].id", f"{FLOOR!r} is reserved for the floor")
+        if _names_wall(o.id):
+            raise c.fail(f"objects[{i}].id", f"{o.id!r} is reserved for walls")
         seen.add(o.id)
         objects.append(o)
-    _links(c, objects)
+    listed = np.asarray(d["room"]["floor_polygon"], dtype=float)  # (validated by _room)
+    _links(c, objects, listed)
+    if polygon_area(listed) < 0:  # the room reversed it: rename the walls after it
+        objects = _renumber_walls(objects, len(listed))
     stats = d.get("stats", {})
     if stats is None:
         stats = {}

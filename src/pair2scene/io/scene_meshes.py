@@ -70,7 +70,12 @@ def object_meshes(scene: Scene, assets: dict) -> list[tuple[str, str, Mesh]]:
 def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
     """The floor slab under z = 0 and one wall per polygon edge, door and window openings
     left free: ``floor``, ``wall_<edge>_<piece>``, the wall below and above each window
-    ``window_<edge>_<piece>`` and its glass ``window_<edge>_<piece>_pane``."""
+    ``window_<edge>_<piece>`` and its glass ``window_<edge>_<piece>_pane``.
+
+    Walls stand outside the floor polygon, :data:`WALL_THICKNESS_M` thick, their inner
+    face on the polygon's edge: what stands or hangs against a wall (a wardrobe, a
+    painting flush on it) stays in front of the wall, visible. A wall reaches past its end
+    over the corner where the room's corner is convex, so the outside corner is closed."""
     poly = np.asarray(room.floor_polygon, dtype=float)
     lo, hi = poly.min(0), poly.max(0)
     t = WALL_THICKNESS_M
@@ -87,6 +92,8 @@ def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
             continue
         u = (b - a) / length
         normal = np.array([u[1], -u[0]])  # outward for a counter-clockwise polygon
+        after = poly[(i + 2) % len(poly)] - b  # the next edge: a left turn is convex
+        convex = u[0] * after[1] - u[1] * after[0] > 1e-9 * max(np.linalg.norm(after), 1.0)
         cuts = []  # (start, end, bottom, top, kind) of each opening along the edge
         for opening in (*room.doors, *room.windows):
             p0, p1 = np.asarray(opening.p0, float), np.asarray(opening.p1, float)
@@ -107,17 +114,18 @@ def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
             if kind == "window":
                 spans.append((s0, s1, bottom, top, "pane"))
             at = s1
-        spans.append((at, length, 0.0, room.height, "wall"))
+        spans.append((at, length + (t if convex else 0.0), 0.0, room.height, "wall"))
         yaw_rot = np.array([[u[0], -u[1], 0.0], [u[1], u[0], 0.0], [0.0, 0.0, 1.0]])
         j = 0
         for s0, s1, z0, z1, prefix in spans:
             if s1 - s0 <= 1e-6 or z1 <= z0:
                 continue
+            # local y is the inward normal: the wall is y in [-t, 0], outside the room
             if prefix == "pane":  # thin glass in the middle of the wall
-                local = box_between([s0, 0.45 * t, z0], [s1, 0.55 * t, z1])
+                local = box_between([s0, -0.55 * t, z0], [s1, -0.45 * t, z1])
                 name = f"window_{i}_{j}_pane"
             else:
-                local = box_between([s0, 0.0, z0], [s1, t, z1])
+                local = box_between([s0, -t, z0], [s1, 0.0, z1])
                 name = f"{prefix}_{i}_{j}"
             out.append((name, local.transformed(yaw_rot, [a[0], a[1], 0.0])))
             j += 1

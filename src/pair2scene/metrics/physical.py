@@ -5,11 +5,19 @@
   the **collision rate** is their share of the scene's objects.
 - :func:`floating` names the objects that do not rest on anything: lowered by ``gap``
   (1 cm), an object on the floor must reach z = 0 and one on a support must touch the
-  support's mesh. The **floating rate** is their share.
+  support's mesh. An object hung on a wall (support ``wall:<i>``, no gravity) rests on it
+  when one of its vertical faces (the back, preferably) is parallel to wall i within 15
+  degrees, 1 cm or less from its line, overlapping the wall segment, and no corner of the
+  object is more than 5 mm through the wall (:func:`wall_rest`). The **floating rate**
+  is their share. Objects with an unknown support (None) are not judged.
 - :func:`stability` simulates the scene as it is for 2 s under gravity (MuJoCo, the
   curation's physics with no depenetration phase and no fitting: nothing is helped) and
   measures how far each object's box corners moved; **stability** is the share of the
   simulated objects that moved less than 2 cm.
+
+Room walls are not collision partners here (only objects are): a wall object touching
+its wall is no collision, and one pushed into its wall is reported by :func:`floating`,
+not counted in the collision rate.
 
 Both take the scene and the assets its objects were built from (a generated scene's own
 assets; for a scene.json read back, :func:`pair2scene.curation.physics.scene_assets`).
@@ -23,7 +31,9 @@ import numpy as np
 
 from pair2scene.assembly.collision import MeshWorld, Shape, Tolerances, obb_overlaps
 from pair2scene.assets.mesh import Asset
-from pair2scene.scene.model import FLOOR, Scene
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import FLOOR, WALL, Scene, wall_index
+from pair2scene.scene.walls import AGAINST_ANGLE_DEG, FACES, MIN_OVERLAP, Wall, walls_of
 
 COLLISION_DEPTH_M = 0.005
 """Penetration that counts as an intersection: half a centimetre, above the 2 mm contact
@@ -32,6 +42,12 @@ FLOAT_GAP_M = 0.01
 """An object farther than this above what carries it is floating."""
 FLOAT_STEP_M = 0.001
 """Step of the lowering that looks for the support (thinner than any support part)."""
+WALL_GAP_M = 0.01
+"""A wall object whose nearest parallel face is farther than this from its wall floats."""
+WALL_DEPTH_M = COLLISION_DEPTH_M
+"""A wall object reaching deeper than this behind its wall's line does not rest on it."""
+WALL_ANGLE_DEG = AGAINST_ANGLE_DEG
+"""A face rests flat on a wall when parallel to it within this many degrees (15)."""
 STABLE_MOTION_M = 0.02
 """An object whose box corners all move less than this in the simulation is stable."""
 STABILITY_SECONDS = 2.0
@@ -72,9 +88,74 @@ def intersecting(
     return out
 
 
+_FACE_AXES = {"back": (1, -1.0), "left": (0, -1.0), "right": (0, 1.0), "front": (1, 1.0)}
+"""A vertical face (:data:`~pair2scene.scene.walls.FACES`): (local axis it is normal to,
+sign of its outward normal along that axis)."""
+
+
+def wall_rest(
+    box: OrientedBox,
+    wall: Wall,
+    height: float,
+    max_gap: float = WALL_GAP_M,
+    max_depth: float = WALL_DEPTH_M,
+    max_angle: float = WALL_ANGLE_DEG,
+) -> str | None:
+    """None when ``box`` hangs on ``wall`` (of a room ``height`` high), else why not.
+
+    It hangs there when one vertical face, the back tried first, looks at the wall within
+    ``max_angle`` degrees (tilted or turned), the face's nearest point is at most
+    ``max_gap`` from the wall's line, at least :data:`~pair2scene.scene.walls.MIN_OVERLAP`
+    of the face's width lies along the segment, the box overlaps the wall's height, and no
+    corner of the box over the segment lies more than ``max_depth`` behind the line."""
+    corners = box.corners()  # (8, 3)
+    local = wall.local(corners[:, :2])  # (8, 2): along from the midpoint, inward
+    half_len = wall.length / 2
+    over = np.abs(local[:, 0]) <= half_len + 1e-9
+    depth = float(-local[over, 1].min()) if over.any() else 0.0
+    if depth > max_depth:
+        return f"{depth:.3f} m through wall {wall.index}"
+    if box.bottom >= height or box.top <= 0.0:
+        return f"outside wall {wall.index}'s height (0 to {height:.2f} m)"
+    inward = np.array([*wall.normal, 0.0])
+    # which corners lie on which face: their local coordinates' signs
+    signs = np.sign((corners - box.center) @ box.rotation)  # (8, 3)
+    why = f"no face parallel to wall {wall.index} within {max_angle:.0f} degrees"
+    for face in FACES:
+        axis, sign = _FACE_AXES[face]
+        normal = box.rotation[:, axis] * sign  # outward, world
+        cos = float(-normal @ inward)
+        if cos < np.cos(np.radians(max_angle)):
+            continue
+        on_face = signs[:, axis] == sign
+        gap = float(local[on_face, 1].min())
+        lo, hi = float(local[on_face, 0].min()), float(local[on_face, 0].max())
+        overlap = min(hi, half_len) - max(lo, -half_len)
+        if overlap < MIN_OVERLAP * max(hi - lo, 1e-6):
+            why = f"its {face} is beside wall {wall.index}, not on it"
+            continue
+        if gap > max_gap:
+            why = f"its {face} is {gap:.3f} m off wall {wall.index}"
+            continue
+        return None
+    return why
+
+
+def _wall_floating(scene: Scene, support: str, box: OrientedBox) -> str | None:
+    """None when an object with the wall support ``support`` hangs on it, else why not."""
+    i = wall_index(support)
+    walls = {w.index: w for w in walls_of(scene.room.floor_polygon)}
+    if i is None:  # "wall" (not chosen: hierarchies only) or a malformed "wall:..."
+        return f"its support {support!r} names no wall (wall:<i>)"
+    if i not in walls:
+        return f"its support {support} is not a wall of the room ({len(walls)} walls)"
+    return wall_rest(box, walls[i], scene.room.height)
+
+
 def floating(scene: Scene, assets: dict[str, Asset], gap: float = FLOAT_GAP_M) -> dict[str, str]:
     """object id -> why it floats, for every object not resting on its support within
-    ``gap``. Objects with an unknown support (``None``, e.g. wall-hung) are not judged."""
+    ``gap``; an object on a wall (``wall:<i>``) by :func:`wall_rest`. Objects with an
+    unknown support (``None``) are not judged."""
     by_id = scene.by_id()
     still = _shapes(scene, assets)
     world = MeshWorld(Tolerances(touch=0.0))
@@ -89,6 +170,11 @@ def floating(scene: Scene, assets: dict[str, Asset], gap: float = FLOAT_GAP_M) -
         if o.support == FLOOR:
             if o.box.bottom > gap:
                 out[o.id] = f"{o.box.bottom:.3f} m above the floor"
+            continue
+        if o.support.partition(":")[0] == WALL:  # "wall:<i>" (or a malformed "wall...")
+            why = _wall_floating(scene, o.support, o.box)
+            if why is not None:
+                out[o.id] = why
             continue
         if o.support not in by_id:
             out[o.id] = f"its support {o.support} is missing"

@@ -4,8 +4,14 @@ Real rooms of the training data hold 2.4-4.4 wall objects each (paintings, mirro
 curtains, blinds, wall lamps); a generated room without them is the first thing a person
 notices. Per set of rooms:
 
-- ``wall_objects_per_room``: objects of a wall-object category
-  (:attr:`~pair2scene.categories.SuperCategory.WALL_OBJECT`, parts left out) per room;
+- ``wall_objects_per_room``: objects hung on a wall per room (parts left out): with a
+  ``wall:<i>`` support (generated rooms, curated ones), or, in a room as its source gives
+  it (nothing known to carry the object), of a category that hangs and touching a wall
+  (:func:`~pair2scene.curation.wall_objects.hung_on`, the rule curation mounts them by): a
+  painting, a mirror, a television or a towel rail on a wall; :func:`is_wall_object`;
+- ``over_openings``: the share of those that cover a door or a window on their wall
+  (their extent along the wall and in height overlapping the opening's; curtains and
+  blinds at a window are not counted: that is where they hang);
 - ``windows_per_room``: the room's windows per room;
 - ``wall_share/<category>``: that category's share of all the rooms' objects (the share
   a category KL sees; structure and parts left out of both counts).
@@ -18,9 +24,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from pair2scene.categories import BY_NAME, SuperCategory
+from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
+from pair2scene.curation.wall_objects import hung_on
 from pair2scene.metrics.layout import counted, stat
-from pair2scene.scene.model import Scene
+from pair2scene.scene.model import Room, Scene, SceneObject, on_wall
+from pair2scene.scene.walls import Wall, walls_of
 
 WALL_CATEGORIES = tuple(
     sorted(c for c, v in BY_NAME.items() if v.super is SuperCategory.WALL_OBJECT)
@@ -28,14 +36,44 @@ WALL_CATEGORIES = tuple(
 """The wall-object categories of the canonical vocabulary."""
 
 
+def is_wall_object(o: SceneObject, walls: list[Wall]) -> bool:
+    """Whether ``o`` hangs on one of the room's ``walls`` (see the module docstring)."""
+    return on_wall(o.support) or hung_on(o, walls) is not None
+
+
+def covers_opening(o: SceneObject, wall: Wall, room: Room) -> bool:
+    """Whether ``o``, hung on ``wall``, covers a door or (unless it is curtains or
+    blinds) a window of it: overlapping it along the wall and in height."""
+    along = wall.local(o.box.corners()[:, :2])[:, 0]
+    lo, hi = float(along.min()), float(along.max())
+    openings = [*room.doors, *(() if o.category in WINDOW_DRESSINGS else room.windows)]
+    for opening in openings:
+        span = wall.span(opening.p0, opening.p1)
+        if span is None:
+            continue
+        if hi > span[0] and lo < span[1] and o.box.bottom < opening.z_max:
+            if o.box.top > opening.z_min:
+                return True
+    return False
+
+
 def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
     """Every row of the module docstring over ``scenes``."""
     rooms = len(scenes)
-    cats = [[o.category for o in s.objects if counted(o)] for s in scenes]
+    kept = [[o for o in s.objects if counted(o)] for s in scenes]
+    cats = [[o.category for o in row] for row in kept]
     total = sum(len(c) for c in cats)
-    on_walls = sum(c in WALL_CATEGORIES for row in cats for c in row)
+    on_walls = over = 0
+    for scene, row in zip(scenes, kept, strict=True):
+        walls = walls_of(scene.room.floor_polygon)
+        for o in row:
+            wall = hung_on(o, walls)
+            if wall is not None:
+                on_walls += 1
+                over += covers_opening(o, wall, scene.room)
     out = {
         "wall_objects_per_room": stat(on_walls, rooms, rooms),
+        "over_openings": stat(over, on_walls, rooms),
         "windows_per_room": stat(sum(len(s.room.windows) for s in scenes), rooms, rooms),
     }
     for category in WALL_CATEGORIES:

@@ -39,6 +39,7 @@ from pair2scene.model.features import (
     from_model_frame,
     room_cloud,
     to_model_frame,
+    wall_cloud,
 )
 from pair2scene.model.layout import (
     FUNCTIONAL,
@@ -57,7 +58,7 @@ from pair2scene.model.mixture import (
     window_log_mass,
 )
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL
 
 EVAL_BATCH = 256
 """Tuples per forward pass when scoring."""
@@ -119,9 +120,19 @@ class Anchor:
     def floor(cls, room_bounds: OrientedBox) -> Anchor:
         return cls(FLOOR, room_bounds)
 
+    @classmethod
+    def wall(cls, frame: OrientedBox) -> Anchor:
+        """A wall as the support of a mounted object; ``frame`` is the wall's frame
+        (:meth:`~pair2scene.scene.walls.Wall.frame`)."""
+        return cls(WALL, frame)
+
     @property
     def is_floor(self) -> bool:
         return self.category == FLOOR
+
+    @property
+    def is_wall(self) -> bool:
+        return self.category == WALL
 
 
 @dataclass(frozen=True)
@@ -267,6 +278,8 @@ class LayoutModel:
             return anchor.cloud
         if anchor.is_floor:
             return room_cloud(anchor.box.size, self.n_points)
+        if anchor.is_wall:
+            return wall_cloud(anchor.box.size, self.n_points)
         if anchor.asset is not None:
             return self._cloud_of(anchor.asset)
         return _procedural_cloud(anchor.category, anchor.box.size, self.n_points)

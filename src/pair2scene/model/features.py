@@ -94,7 +94,7 @@ from pair2scene.model.mixture import BOX_DIM, MIN_TARGET_SIZE
 from pair2scene.model.pointmae import normalise_points
 from pair2scene.progress import track
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import FLOOR
+from pair2scene.scene.model import FLOOR, WALL
 
 CANONICAL_EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts on half-sizes (its ``eps``)."""
@@ -210,6 +210,21 @@ def room_points(size: Sequence[float], n: int, rng: np.random.Generator | int) -
     return pts
 
 
+def wall_points(size: Sequence[float], n: int, rng: np.random.Generator | int) -> np.ndarray:
+    """``n`` points on a wall and the floor in front of it, area-weighted: (n, 3) in the
+    wall's frame (:meth:`~pair2scene.scene.walls.Wall.frame`: the wall is the plane y = 0,
+    x along it, the room at y > 0, the floor at z = -height / 2)."""
+    rng = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+    sx, sy, sz = (max(float(v), 1e-3) for v in size)
+    on_wall = rng.random(n) < sz / (sz + sy / 2)
+    u, v = rng.uniform(-0.5, 0.5, n), rng.uniform(0.0, 1.0, n)
+    pts = np.empty((n, 3))
+    pts[:, 0] = u * sx
+    pts[:, 1] = np.where(on_wall, 0.0, v * sy / 2)
+    pts[:, 2] = np.where(on_wall, (v - 0.5) * sz, -sz / 2)
+    return pts
+
+
 def normalised(points: np.ndarray, size: Sequence[float]) -> np.ndarray:
     """A local-frame cloud (N, 3) normalised by its box ``size`` (3,): (N, 3) float32."""
     pts, _ = normalise_points(
@@ -228,6 +243,11 @@ def asset_cloud(asset: Asset, n: int, seed: int = CLOUD_SEED) -> np.ndarray:
 def room_cloud(size: Sequence[float], n: int, seed: int = CLOUD_SEED) -> np.ndarray:
     """The normalised cloud (n, 3) float32 of a room of bounds ``size`` (the floor's)."""
     return normalised(room_points(size, n, seed), size)
+
+
+def wall_cloud(size: Sequence[float], n: int, seed: int = CLOUD_SEED) -> np.ndarray:
+    """The normalised cloud (n, 3) float32 of a wall whose frame has ``size``."""
+    return normalised(wall_points(size, n, seed), size)
 
 
 @dataclass(frozen=True)
@@ -249,6 +269,8 @@ class CloudSpec:
         """(n, 3) float32 normalised cloud."""
         if self.room:
             return room_cloud(self.size, n)
+        if self.category == WALL:  # the support of a mounted object: its wall's frame
+            return wall_cloud(self.size, n)
         from pair2scene.assets.registry import generate
 
         heights = list(self.support_heights) or None
@@ -466,6 +488,8 @@ def dataset_features(
                     spec = CloudSpec(FLOOR, _size3(rooms[scene][3:6]), 0, room=True)
                 elif arr.id[i] == FLOOR:
                     spec = CloudSpec(FLOOR, _size3(arr.box[i, 3:6]), 0, room=True)
+                elif names[arr.category[i]] == WALL:
+                    spec = CloudSpec(WALL, _size3(arr.box[i, 3:6]), 0)
                 else:
                     oid = str(arr.id[i])
                     spec = CloudSpec(

@@ -117,6 +117,8 @@ from pair2scene.model.mixture import (
 
 FLOOR_INDEX = CATEGORY_VOCAB.index("floor")
 """Category row of the floor (a support anchor that is the room)."""
+WALL_INDEX = CATEGORY_VOCAB.index("wall")
+"""Category row of a wall (the support anchor of a mounted object)."""
 N_MEMBERS = 3
 """Tuple members, in this order: dependent, support anchor, functional anchor."""
 DEPENDENT, SUPPORT, FUNCTIONAL = 0, 1, 2
@@ -578,7 +580,10 @@ class LayoutPredictor(nn.Module):
         half = (0.5 * frame).clamp_min(1e-9)  # (B, 3)
         size = dep / half.clamp_min(MIN_ANCHOR_HALF_M)  # model-frame size
         top = half[:, 2] / half[:, 2].clamp_min(MIN_ANCHOR_HALF_M)  # the support's top
-        on_floor = batch.categories[:, SUPPORT] == FLOOR_INDEX
+        # A mounted object's frame (its wall's) spans floor to ceiling like a floor
+        # object's: its height is counted from the floor too, the hanging height learned.
+        support = batch.categories[:, SUPPORT]
+        on_floor = (support == FLOOR_INDEX) | (support == WALL_INDEX)
         known[:, 2] = torch.where(on_floor, -top, top) + 0.5 * size[:, 2]
         known[:, 3:6] = size.log()
         return known

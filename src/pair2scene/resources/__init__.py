@@ -9,6 +9,8 @@ name                   file                   what
 ``rooms``              rooms.json             training room bounds per room type
 ``sizes``              sizes.json             observed object sizes per category
 ``functional_pairs``   functional_pairs.json  commonsense functional pairs (curation)
+``room_types``         room_types.json        recipes of room types the training data lacks
+                                              (office, study, ...; hierarchy.room_types)
 =====================  =====================  ===============================================
 
 :func:`load_table` reads one of them (or a user's file of the same kind, by path) and
@@ -45,6 +47,7 @@ TABLES: dict[str, Table] = {
     "rooms": Table("rooms.json", "pair2scene.rooms", 1),
     "sizes": Table("sizes.json", "pair2scene.sizes", 1),
     "functional_pairs": Table("functional_pairs.json", None, None),
+    "room_types": Table("room_types.json", "pair2scene.room_types", 1),
 }
 
 

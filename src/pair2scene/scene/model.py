@@ -12,6 +12,39 @@ from pair2scene.scene.geometry import OrientedBox, points_in_polygon, polygon_ar
 
 FLOOR = "floor"
 """Support id of the floor: the root of every support tree."""
+WALL = "wall"
+"""Support of a wall-mounted object (a painting, a mirror, curtains, a mounted TV) whose
+wall is not chosen yet: a hierarchy's node, for which placement picks the wall. A placed
+object names its wall, ``wall:<i>`` (:func:`wall_support`). Also the category of a wall
+as a relation-tuple member."""
+_WALL_PREFIX = WALL + ":"
+
+
+def wall_support(index: int) -> str:
+    """The support id of an object mounted on wall ``index``: ``wall:<index>``, the index
+    of the wall's edge in the room's floor polygon (edge i runs from vertex i to i + 1,
+    :class:`~pair2scene.scene.walls.Wall`)."""
+    return f"{_WALL_PREFIX}{int(index)}"
+
+
+def wall_index(support: str | None) -> int | None:
+    """The wall index of a ``wall:<i>`` support id; None for anything else (``wall``
+    itself included: no wall chosen yet)."""
+    if not isinstance(support, str) or not support.startswith(_WALL_PREFIX):
+        return None
+    tail = support[len(_WALL_PREFIX) :]
+    plain = tail.isascii() and tail.isdigit() and (tail == "0" or not tail.startswith("0"))
+    return int(tail) if plain else None
+
+
+def on_wall(support: str | None) -> bool:
+    """Whether a support id is a wall: ``wall`` (not chosen yet) or ``wall:<i>``."""
+    return support == WALL or wall_index(support) is not None
+
+
+def is_root(support: str | None) -> bool:
+    """Whether a support id is a root of the support tree: the floor or a wall."""
+    return support == FLOOR or on_wall(support)
 
 
 @dataclass(frozen=True)
@@ -44,7 +77,8 @@ class SceneObject:
     box: OrientedBox
     asset: AssetRef | None = None
     support: str | None = None
-    """``floor``, the id of the supporting object, or None when not known yet."""
+    """``floor``, ``wall:<i>`` (mounted on the room's wall i, :func:`wall_support`), the id
+    of the supporting object, or None when not known yet."""
     functional_anchor: str | None = None
     source_label: str | None = None
     """The label the source used, before mapping."""
@@ -151,8 +185,9 @@ class Scene:
         return [o for o in self.objects if o.support == support_id]
 
     def support_edges(self) -> list[tuple[str, str]]:
-        """(child, parent) for every object resting on another object (not the floor)."""
-        return [(o.id, o.support) for o in self.objects if o.support not in (None, FLOOR)]
+        """(child, parent) for every object resting on another object (not the floor, not
+        a wall)."""
+        return [(o.id, o.support) for o in self.objects if not is_root(o.support or FLOOR)]
 
     def tuples(self) -> list[RelationTuple]:
         """One relation tuple per object with a known support, in file order."""

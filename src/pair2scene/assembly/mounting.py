@@ -1,0 +1,149 @@
+"""Objects mounted on walls: which wall, where on it, and what keeps them off doors,
+windows and furniture.
+
+A mounted object (a painting, a mirror, a TV on the wall, curtains) rests on ``wall`` in
+its hierarchy; placement tries the room's walls in :func:`mount_order` and draws each
+candidate from the layout model in that wall's frame (its support anchor, as the
+training tuples have it). :func:`mount` then hangs the drawn box on the wall: turned to
+face the room, its back :data:`MOUNT_GAP_M` off the wall, along the wall and in height
+where the model put it, kept within the wall and under the ceiling. :func:`mount_blocked`
+rejects what would cover a door or a window (curtains and blinds excepted), hang behind
+a piece of furniture standing against the wall and reaching above its bottom (a painting
+behind a wardrobe), or stand off the wall's ends; collisions with furniture and the other
+mounted objects are tested like any candidate's.
+
+Curtains and blinds (:data:`WINDOW_DRESSINGS`) hang at a window: the model knows no
+windows, so they are placed by rule, centred on a window nobody dressed yet, hanging from
+:data:`DRESSING_ABOVE_M` above its top (:func:`dress_window`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pair2scene.assembly.walls import faced_by
+from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import Opening, Room
+from pair2scene.scene.walls import AGAINST_GAP_M, Wall, wall_contact
+
+MOUNT_GAP_M = 0.002
+"""A mounted object's back is this far off its wall: touching it (the floating check
+allows 1 cm), never through it."""
+FLOOR_CLEARANCE_M = 0.05
+"""A mounted object's bottom is at least this far above the floor."""
+DOOR_MARGIN_M = 0.05
+"""Wall kept free beside and above a door's frame."""
+DRESSING_ABOVE_M = 0.12
+"""Curtains and blinds hang from this far above their window's top (a rod, a cassette);
+under the ceiling."""
+BEHIND_DEPTH_M = AGAINST_GAP_M + 0.15
+"""A floor object whose back is this close to a wall stands against it: a mounted object
+reaching below its top there would be hidden behind it."""
+
+
+def wall_openings(wall: Wall, openings) -> list[tuple[float, float, float, float, int]]:
+    """(along lo, along hi, z_min, z_max, index) of each of ``openings`` on ``wall``."""
+    out = []
+    for i, o in enumerate(openings):
+        span = wall.span(o.p0, o.p1)
+        if span is not None:
+            out.append((span[0], span[1], float(o.z_min), float(o.z_max), i))
+    return out
+
+
+def mount_order(
+    walls: list[Wall],
+    rng: np.random.Generator,
+    anchor: OrientedBox | None = None,
+    only: int | None = None,
+) -> list[Wall]:
+    """The walls to try for a mounted object, best first: ``only`` that wall (a hierarchy
+    naming it); else, with a functional ``anchor`` (a floor object), the wall it stands
+    against (a painting above the bed), then the walls it faces (a TV across from the
+    sofa), then the rest; without one, every wall in a random order weighted by length
+    (a long wall holds more)."""
+    if only is not None:
+        return [w for w in walls if w.index == only]
+    keys = rng.random(len(walls)) ** (1.0 / np.array([max(w.length, 1e-3) for w in walls]))
+    order = [walls[i] for i in np.argsort(-keys, kind="stable")]
+    if anchor is None:
+        return order
+    contact = wall_contact(anchor, walls)
+    behind = [w for w in order if contact is not None and w.index == contact.wall]
+    faced = [w for w in order if w not in behind and faced_by(w, anchor)]
+    return behind + faced + [w for w in order if w not in behind and w not in faced]
+
+
+def hang(wall: Wall, along: float, z: float, size: np.ndarray) -> OrientedBox:
+    """The box of ``size`` with its back against ``wall``, facing the room, its centre
+    ``along`` the wall (from its midpoint) at height ``z``."""
+    n = wall.normal
+    yaw = float(np.arctan2(n[1], n[0])) - np.pi / 2  # local +y (the front) along n
+    xy = wall.midpoint + wall.direction * along + n * (size[1] / 2 + MOUNT_GAP_M)
+    return OrientedBox.from_yaw([*xy, z], size, yaw)
+
+
+def mount(box: OrientedBox, wall: Wall, room_height: float, ceiling_margin: float):
+    """A drawn candidate hung on ``wall`` (module docstring): None when the object is
+    wider than the wall or taller than the room allows."""
+    size = np.asarray(box.size, float)
+    half_len = wall.length / 2 - size[0] / 2
+    z_lo = FLOOR_CLEARANCE_M + size[2] / 2
+    z_hi = room_height - ceiling_margin - size[2] / 2
+    if half_len < 0 or z_hi < z_lo:
+        return None
+    along = float(np.clip(wall.local(box.center[:2])[0], -half_len, half_len))
+    z = float(np.clip(box.center[2], z_lo, z_hi))
+    return hang(wall, along, z, size)
+
+
+def dress_window(
+    window: Opening, wall: Wall, size: np.ndarray, room_height: float, ceiling_margin: float
+) -> OrientedBox | None:
+    """Curtains or blinds of ``size`` hung at ``window`` on ``wall``: centred on it, from
+    :data:`DRESSING_ABOVE_M` above its top (under the ceiling); None when the window is
+    not on that wall or the room is too low for them."""
+    span = wall.span(window.p0, window.p1)
+    if span is None:
+        return None
+    size = np.asarray(size, float)
+    top = min(float(window.z_max) + DRESSING_ABOVE_M, room_height - ceiling_margin)
+    z = top - size[2] / 2
+    if z - size[2] / 2 < FLOOR_CLEARANCE_M - 1e-9:
+        z = FLOOR_CLEARANCE_M + size[2] / 2
+        if z + size[2] / 2 > room_height - ceiling_margin:
+            return None
+    half_len = max(wall.length / 2 - size[0] / 2, 0.0)
+    along = float(np.clip((span[0] + span[1]) / 2, -half_len, half_len))
+    return hang(wall, along, z, size)
+
+
+def mount_blocked(
+    box: OrientedBox, wall: Wall, room: Room, dressing: bool, floor_boxes: list[OrientedBox]
+) -> str | None:
+    """Why a hung candidate cannot stay (None: it can, as far as the wall goes):
+    ``off_wall`` past the wall's ends, ``door`` over a door (or within
+    :data:`DOOR_MARGIN_M` of its frame), ``window`` over a window, ``hidden`` behind
+    furniture standing against the wall and reaching above its bottom. Curtains and
+    blinds (``dressing``) are excepted from the last two: they hang at a window and down
+    behind what stands below it."""
+    corners = wall.local(box.corners()[:, :2])
+    lo, hi = float(corners[:, 0].min()), float(corners[:, 0].max())
+    if lo < -wall.length / 2 - 1e-6 or hi > wall.length / 2 + 1e-6:
+        return "off_wall"
+    bottom, top = box.bottom, box.top
+    for a, b, _, z_max, _ in wall_openings(wall, room.doors):
+        if hi > a - DOOR_MARGIN_M and lo < b + DOOR_MARGIN_M and bottom < z_max + DOOR_MARGIN_M:
+            return "door"
+    if dressing:
+        return None
+    for a, b, z_min, z_max, _ in wall_openings(wall, room.windows):
+        if hi > a and lo < b and bottom < z_max and top > z_min:
+            return "window"
+    for f in floor_boxes:
+        fc = wall.local(f.corners()[:, :2])
+        if fc[:, 1].min() > BEHIND_DEPTH_M or f.top <= bottom:
+            continue
+        if fc[:, 0].max() > lo and fc[:, 0].min() < hi:
+            return "hidden"
+    return None

@@ -1,0 +1,64 @@
+"""Hierarchies with wall-mounted objects: walls are roots after the floor, and a wall
+object may take a floor object as its functional anchor."""
+
+from __future__ import annotations
+
+import pytest
+
+from pair2scene.hierarchy.tree import Hierarchy, HierarchyError
+
+
+def bedroom() -> Hierarchy:
+    h = Hierarchy("bedroom")
+    bed = h.add("bed", "floor")
+    table = h.add("side_table", "floor", bed.id)
+    h.add("painting", "wall", bed.id)
+    h.add("curtains", "wall")
+    h.add("mirror", "wall:2")
+    h.add("table_lamp", table.id)
+    return h.validate()
+
+
+def test_walls_are_roots_placed_after_the_floor_and_before_what_rests_on_furniture():
+    seq = [(s.dependent.id, s.support, s.functional) for s in bedroom().sequence()]
+    assert seq == [
+        ("bed_0", "floor", None),
+        ("side_table_0", "floor", "bed_0"),
+        ("painting_0", "wall", "bed_0"),
+        ("curtains_0", "wall", None),
+        ("mirror_0", "wall:2", None),
+        ("table_lamp_0", "side_table_0", None),
+    ]
+    assert bedroom().roots() == ["floor", "wall", "wall:2"]
+
+
+def test_round_trip_keeps_walls_and_floor_anchors():
+    h = bedroom()
+    back = Hierarchy.from_dict(h.to_dict())
+    assert back.support == h.support and back.functional == h.functional
+    edges = h.to_dict()["support_tree"]["edges"]
+    assert {"parent": {"id": "wall", "category": "wall"},
+            "child": {"id": "painting_0", "category": "painting"}} in edges  # fmt: skip
+
+
+@pytest.mark.parametrize("support", ["wall:x", "wall:", "walls", "wall:-1"])
+def test_malformed_walls_are_refused(support):
+    h = Hierarchy("bedroom")
+    h.add("painting", support)
+    with pytest.raises(HierarchyError, match="rests on"):
+        h.validate()
+
+
+def test_only_wall_objects_may_take_an_anchor_on_another_support():
+    h = Hierarchy("bedroom")
+    bed = h.add("bed", "floor")
+    desk = h.add("desk", "floor")
+    h.add("book", desk.id, bed.id)
+    with pytest.raises(HierarchyError, match="must share the support"):
+        h.validate()
+    h = Hierarchy("bedroom")
+    desk = h.add("desk", "floor")
+    book = h.add("book", desk.id)
+    h.add("painting", "wall", book.id)  # a painting hangs over floor objects only
+    with pytest.raises(HierarchyError, match="must share the support"):
+        h.validate()
