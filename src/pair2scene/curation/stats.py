@@ -4,10 +4,10 @@
   category (the floor included, as ``floor``);
 - ``func_dep[support][functional anchor][dependent]``: how often a dependent has a
   functional anchor of a category, among objects on a support of a category;
-- per room type: templates, the multisets of floor-standing furniture and of objects
-  mounted on walls (``painting@wall``, :data:`WALL_MARK`; with counts) that rooms of that
-  type hold, from which each category's count distribution follows, and
-  the distribution of the number of placed objects per room;
+- per room type: templates, the multisets of what stands on the floor (furniture and
+  small objects) and of objects mounted on walls (``painting@wall``, :data:`WALL_MARK`;
+  with counts) that rooms of that type hold, from which each category's count
+  distribution follows, and the distribution of the number of placed objects per room;
 - per room type and floor category: how many stand on the floor and how many of those
   stand against a wall (:func:`~pair2scene.curation.tuples.wall_anchor`), from which
   placement decides which objects take a wall as an anchor;
@@ -74,11 +74,16 @@ a room has goes with its furniture (and a mounted TV is told from one on a stand
 
 
 def template_member(obj: SceneObject) -> str | None:
-    """``obj``'s entry in its room's template: its category for floor-standing furniture
-    and fixtures, ``<category>@wall`` for an object mounted on a wall; None otherwise."""
+    """``obj``'s entry in its room's template: its category for floor-standing furniture,
+    fixtures and small objects on the floor (a basketball, a box: 6 % of the val
+    bedrooms' objects, which expansion, offering only what rests on objects, never
+    adds), ``<category>@wall`` for an object mounted on a wall; None otherwise."""
     if on_wall(obj.support):
         return obj.category + WALL_MARK
-    if obj.support == FLOOR and obj.super in TEMPLATE_SUPER_CATEGORIES:
+    if obj.support == FLOOR and obj.super in (
+        *TEMPLATE_SUPER_CATEGORIES,
+        SuperCategory.SMALL_OBJECT,
+    ):
         return obj.category
     return None
 

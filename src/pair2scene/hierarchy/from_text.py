@@ -74,8 +74,9 @@ def infer_room_type(spec: TextSpec, st: Statistics) -> str:
 
 def key_furniture(rs) -> str | None:
     """The furniture category most rooms of a type hold (bed, sofa, ...; never a wall
-    object)."""
-    hist = {c: n for c, n in rs.furniture_counts().items() if not split_member(c)[1]}
+    object or a small object on the floor)."""
+    hist = {c: n for c, n in rs.furniture_counts().items()
+            if not split_member(c)[1] and _is_furniture(c)}  # fmt: skip
     if not hist:
         return None
     return max(sorted(hist), key=lambda c: rs.rooms - hist[c].get(0, 0))

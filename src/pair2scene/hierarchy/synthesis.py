@@ -2,8 +2,9 @@
 
 ``synthesize(stats, "bedroom", SynthesisConfig(mode="fit", seed=0))``:
 
-1. **Base template**: a multiset of floor furniture and wall objects (``painting@wall``)
-   drawn from the room type's curated templates, weighted by how many training rooms had
+1. **Base template**: a multiset of floor furniture, small objects standing on the floor
+   (a basketball, a box) and wall objects (``painting@wall``) drawn from the room type's
+   curated templates, weighted by how many training rooms had
    it. Functional anchors among the floor furniture (chairs at the desk) are drawn from
    the floor's functional statistics; wall objects rest on ``wall`` (placement picks
    which) and take a floor object as their anchor with the walls' statistics (a painting
@@ -42,7 +43,12 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
-from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
+from pair2scene.curation.stats import (
+    TEMPLATE_SUPER_CATEGORIES,
+    HierarchyStats,
+    draw_counted,
+    split_member,
+)
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import NOT_OBJECTS, Hierarchy, Node
 from pair2scene.resources import load_table, table_path
@@ -329,8 +335,12 @@ def capacity(st: Statistics, category: str, load: float = BEYOND_LOAD) -> float:
 
 
 def furnished(layout: tuple[str, ...]) -> bool:
-    """Whether a template holds floor furniture (not only wall objects)."""
-    return any(not split_member(m)[1] for m in layout)
+    """Whether a template holds floor furniture (not only wall objects or small objects on
+    the floor)."""
+    return any(
+        not mounted and cat in BY_NAME and BY_NAME[cat].super in TEMPLATE_SUPER_CATEGORIES
+        for cat, mounted in map(split_member, layout)
+    )
 
 
 def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
