@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pair2scene.assembly.walls import faced_by
+from pair2scene.assembly.walls import faced_by, weighted_keys
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import Opening, Room
 from pair2scene.scene.walls import AGAINST_GAP_M, Wall, wall_contact
@@ -64,7 +64,7 @@ def mount_order(
     (a long wall holds more)."""
     if only is not None:
         return [w for w in walls if w.index == only]
-    keys = rng.random(len(walls)) ** (1.0 / np.array([max(w.length, 1e-3) for w in walls]))
+    keys = weighted_keys(rng, [max(w.length, 1e-3) for w in walls])
     order = [walls[i] for i in np.argsort(-keys, kind="stable")]
     if anchor is None:
         return order

@@ -150,7 +150,7 @@ def wall_order(
         usable = [i for i in usable if faced_by(walls[i], anchor)] or usable
     if not usable:
         return []
-    keys = rng.random(len(usable)) ** (1.0 / np.array([free[i] for i in usable]))
+    keys = weighted_keys(rng, [free[i] for i in usable])
     if anchor is not None and distance is not None:
         mean, std = distance
         std = max(std, MIN_DISTANCE_STD_M)
@@ -161,6 +161,13 @@ def wall_order(
     else:
         scores = [(0.0, k) for k in keys]
     return [i for _, i in sorted(zip(scores, usable), key=lambda t: t[0], reverse=True)]
+
+
+def weighted_keys(rng: np.random.Generator, weights) -> np.ndarray:
+    """One sort key per weight, ``u ** (1 / w)``: sorted descending they give a random
+    order in which heavier items come first more often (weighted sampling without
+    replacement)."""
+    return rng.random(len(weights)) ** (1.0 / np.asarray(weights, dtype=float))
 
 
 def faced_by(wall: Wall, box: OrientedBox) -> bool:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from pair2scene.assembly.mounting import wall_openings
 from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.wall_objects import hung_on
 from pair2scene.metrics.layout import counted, stat
@@ -47,14 +48,10 @@ def covers_opening(o: SceneObject, wall: Wall, room: Room) -> bool:
     along = wall.local(o.box.corners()[:, :2])[:, 0]
     lo, hi = float(along.min()), float(along.max())
     openings = [*room.doors, *(() if o.category in WINDOW_DRESSINGS else room.windows)]
-    for opening in openings:
-        span = wall.span(opening.p0, opening.p1)
-        if span is None:
-            continue
-        if hi > span[0] and lo < span[1] and o.box.bottom < opening.z_max:
-            if o.box.top > opening.z_min:
-                return True
-    return False
+    return any(
+        hi > a and lo < b and o.box.bottom < z_max and o.box.top > z_min
+        for a, b, z_min, z_max, _ in wall_openings(wall, openings)
+    )
 
 
 def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
