@@ -207,13 +207,10 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
         "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
-        "(3D-Pairs v3; the bundled model was trained on this curation before its last two "
-        "fixes, 12 more wall tuples of 17,326: paintings touching a wall edge-on or lying "
-        "beside it); VARIANTS holds `pair2scene train --variant V` checkpoints "
-        "(`--train-missing` trains them; this run's are the issue-18 ones, not retrained: "
-        "`global` had 6 epochs and `class-only` 40 on 3D-Pairs v2, with anchor frames, "
-        "without the yaw modes and without wall tuples, so they place wall objects untaught; "
-        "`no-pretrain`, 30 minutes of training for 2 epochs, was not retrained either).",
+        "(3D-Pairs v3, 17,887 tuples; the bundled model was trained on it, 40 epochs); "
+        "VARIANTS holds `pair2scene train --variant V` checkpoints (`--train-missing` trains "
+        "them; this run's were trained on the same PAIRS: `class-only` 40 epochs, `global` "
+        "6; `no-pretrain`, 30 minutes of training for 2 epochs, was not trained).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "

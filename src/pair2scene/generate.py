@@ -164,7 +164,8 @@ class Pair2Scene:
         self.placer = Placer(model, SizeTable.load() if sizes is None else sizes,
                              self.config.assembly, sup_dep=self.stats.sup_dep,
                              walls=WallRules.from_stats(self.stats),
-                             anchors=AnchorRules.from_stats(self.stats))  # fmt: skip
+                             anchors=AnchorRules.from_stats(self.stats),
+                             top_free=self.stats.top_kept_free())  # fmt: skip
 
     @classmethod
     def from_pretrained(

@@ -14,6 +14,7 @@ from pair2scene.assembly.rest import (
     rest_on_surfaces,
 )
 from pair2scene.assets.registry import generate
+from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.scene.geometry import OrientedBox, rot_x
 
 
@@ -100,3 +101,38 @@ def test_into_room_moves_in_and_against_the_wall():
     near = OrientedBox.from_yaw([0.58, 1.5, 0.4], [1, 1, 0.8])  # 8 cm off the wall
     assert into_room(near, square, 0.0, 0.1).center[0] == pytest.approx(0.5)
     assert into_room(near, square, 0.0, 0.05) is near
+
+
+def test_a_fridge_holds_its_eggs_on_its_shelves_not_on_its_roof():
+    """``top=False`` (a support whose top holds nothing in the data): an egg drawn at the
+    fridge's roof height rests on the highest shelf inside instead; a support with no
+    surface below its top still carries it on the top."""
+    size = (0.8, 0.75, 1.8)
+    fridge = generate("fridge", size, rng=0)
+    at = OrientedBox.from_yaw([1.0, 2.0, size[2] / 2], size, 0.3)
+    egg = OrientedBox.from_yaw([1.0, 2.0, size[2] + 0.05], [0.05, 0.05, 0.07], 0.0)
+    z_top, _ = rest_on_surfaces(fridge, at, egg)
+    assert z_top == pytest.approx(size[2], abs=1e-3)
+    z_in, _ = rest_on_surfaces(fridge, at, egg, top=False)
+    inner = sorted(s.z + size[2] / 2 for s in surfaces_of(fridge) if s.z < size[2] / 2 - 0.05)
+    assert z_in == pytest.approx(inner[-1], abs=1e-3)  # the nearest shelf below the roof
+    block_size = (0.8, 0.6, 0.45)  # a counter block: its top is its only surface
+    block = generate("counter_top", block_size, rng=0)
+    bb = OrientedBox.from_yaw([0.0, 0.0, 0.225], block_size, 0.0)
+    mug = OrientedBox.from_yaw([0.0, 0.0, 0.5], [0.1, 0.08, 0.1], 0.0)
+    assert rest_on_surfaces(block, bb, mug, top=False)[0] == pytest.approx(0.45, abs=1e-3)
+
+
+def test_into_an_l_shaped_room_means_inside_its_floor_not_its_bounds():
+    """A box inside the bounds of an L-shaped floor but in its missing corner is not in
+    the room (it was let through when no shift was needed)."""
+    floor = np.array([[3.3, 0.0], [3.3, 6.6], [0.0, 6.6], [0.0, 3.3], [1.65, 3.3], [1.65, 0.0]])
+    corner = OrientedBox.from_yaw([0.8, 1.0, 0.45], [0.8, 0.5, 0.9], 0.0)
+    assert not on_floor(corner, floor)
+    assert into_room(corner, floor) is None
+    assert into_room(corner, floor, max_shift=0.3, snap=0.2) is None
+    arm = OrientedBox.from_yaw([2.4, 1.0, 0.45], [0.8, 0.5, 0.9], 0.0)
+    assert into_room(arm, floor) is arm
+    near = OrientedBox.from_yaw([1.2, 1.0, 0.45], [0.8, 0.5, 0.9], 0.0)  # 0.05 m over
+    moved = into_room(near, floor, max_shift=0.1)
+    assert moved is None or on_floor(moved, floor)

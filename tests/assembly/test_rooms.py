@@ -107,3 +107,73 @@ def test_windows_are_drawn_as_the_statistics_have_them():
         )
         == ()
     )
+
+
+L_SHAPE = (2.6, 0.0, 0.0, 5.0, 0.0, 5.0, 2.0, 2.0, 2.0, 2.0, 4.0, 0.0, 4.0)
+"""(height, x0, y0, ...): an L-shaped room, 5 x 4 m less a 3 x 2 m corner (14 m2)."""
+
+
+def test_rooms_take_the_training_rooms_shapes():
+    """With floor shapes in the statistics, rooms are training rooms' polygons (L-shapes
+    too), turned a quarter turn at random, their door on a wall long enough for it."""
+    from collections import Counter
+
+    from pair2scene.curation.stats import RoomTypeStats
+    from pair2scene.scene.walls import walls_of
+
+    rs = RoomTypeStats()
+    rs.floor_shapes = Counter({L_SHAPE: 3, (2.5, 0.0, 0.0, 3.0, 0.0, 3.0, 3.0, 0.0, 3.0): 1})
+    shapes, heights, turns = Counter(), set(), set()
+    for seed in range(60):
+        room = make_room("bedroom", np.random.default_rng(seed), stats=rs)
+        again = make_room("bedroom", np.random.default_rng(seed), stats=rs)
+        assert np.array_equal(room.floor_polygon, again.floor_polygon)  # same seed, same room
+        assert room.floor_polygon.min(0) == pytest.approx((0.0, 0.0))
+        shapes[len(room.floor_polygon)] += 1
+        heights.add(room.height)
+        if len(room.floor_polygon) == 6:
+            assert room.area == pytest.approx(14.0)
+            assert room.height == 2.6
+            # where the missing corner went: one of four quarter turns
+            w, d = room.floor_polygon.max(0)
+            corners = {(0.0, 0.0), (w, 0.0), (w, d), (0.0, d)}
+            (missing,) = corners - {tuple(v) for v in np.round(room.floor_polygon, 9)}
+            turns.add(missing)
+        (door,) = room.doors
+        walls = walls_of(room.floor_polygon)
+        on = [w for w in walls if np.abs(w.local(np.array([door.p0, door.p1]))[:, 1]).max() < 1e-6]
+        assert len(on) == 1 and on[0].length >= DOOR_WIDTH_M + 0.4 - 1e-9
+    assert 30 < shapes[6] < 55 and shapes[4] > 5  # weighted 3 : 1
+    assert heights == {2.5, 2.6}
+    assert len(turns) == 4
+    # large enough for the furniture: only the L (14 m2) holds 5 m2 of it at 40 %
+    big = {len(make_room("bedroom", np.random.default_rng(s), stats=rs,
+                         furniture_m2=5.0).floor_polygon) for s in range(20)}  # fmt: skip
+    assert big == {6}
+
+
+def test_floor_shapes_round_trip_and_reject_garbage():
+    from pair2scene.curation.stats import (
+        STATS_FORMAT,
+        STATS_VERSION,
+        HierarchyStats,
+        RoomTypeStats,
+        floor_shape,
+    )
+    from pair2scene.scene.model import Room
+
+    # any start vertex and offset: one key, counter-clockwise from the lower-left corner
+    poly = np.array(L_SHAPE[1:]).reshape(-1, 2)
+    for k in range(6):
+        room = Room("bedroom", np.roll(poly, k, axis=0) + (3.0, -7.0), 2.6)
+        assert floor_shape(room) == L_SHAPE
+    st = HierarchyStats()
+    st.room_types["bedroom"] = RoomTypeStats(rooms=1)
+    st.room_types["bedroom"].floor_shapes[L_SHAPE] += 1
+    back = HierarchyStats.from_json(st.to_json())
+    assert back.room_types["bedroom"].floor_shapes == {L_SHAPE: 1}
+    doc = st.to_dict()
+    doc["room_types"]["bedroom"]["floor_shapes"] = [[2.6, 0.0, 0.0, 1]]
+    assert doc["format"] == STATS_FORMAT and doc["version"] == STATS_VERSION
+    with pytest.raises(UserError, match="malformed statistics"):
+        HierarchyStats.from_dict(doc)

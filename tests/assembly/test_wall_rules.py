@@ -47,6 +47,28 @@ def test_statistics_learn_wall_rates_and_anchor_distances():
     assert not any(rules.against_wall("bedroom", "chair", s) for s in range(20))
 
 
+def test_composed_types_take_their_base_types_wall_rates():
+    """A study (60 % bedroom, 40 % living room) stands a piece against a wall as those
+    rooms do, weighted by the recipe, not as every room type pooled."""
+    from pair2scene.hierarchy.synthesis import load_stats
+
+    stats = load_stats()
+    rules = WallRules.from_stats(stats)
+    assert {"office", "study", "dining_room", "kids_room"} <= set(rules.rates)
+    bed, liv = (stats.room_types[t] for t in ("bedroom", "living_room"))
+    cat = "shelving_unit"
+    want = (
+        0.6 * bed.against_wall[cat] / bed.on_floor[cat] * bed.on_floor[cat] / bed.rooms
+        + 0.4 * liv.against_wall[cat] / liv.on_floor[cat] * liv.on_floor[cat] / liv.rooms
+    )
+    want /= 0.6 * bed.on_floor[cat] / bed.rooms + 0.4 * liv.on_floor[cat] / liv.rooms
+    assert rules.rate("study", cat) == pytest.approx(want)
+    every = sum(r.against_wall[cat] for r in stats.room_types.values()) / sum(
+        r.on_floor[cat] for r in stats.room_types.values()
+    )
+    assert abs(want - every) > 0.01  # pooling every type would give another rate
+
+
 def test_free_stretches_leave_out_doors_windows_and_what_stands_there():
     walls = walls_of(ROOM.floor_polygon)
     south = free_stretches(walls[0], ROOM, [], depth=0.5, height=0.8)  # the door 1..2 m

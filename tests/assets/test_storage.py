@@ -24,7 +24,7 @@ SIZES: dict[str, list[tuple[float, float, float]]] = {
     "cabinet_door": [(0.45, 0.04, 0.7), (0.3, 0.03, 0.35), (0.6, 0.05, 2.0)],
     "shelf": [(0.8, 0.25, 0.03), (0.6, 0.3, 0.2), (1.2, 0.35, 0.06)],
 }
-FITTING = {"shelving_unit", "tv_stand", "cabinet", "cart", "dresser", "counter_top"}
+FITTING = {"shelving_unit", "tv_stand", "cabinet", "cart", "dresser", "counter_top", "fridge"}
 PARTS = {"drawer", "cabinet_door", "shelf"}
 HEIGHT_ATOL = 1e-9
 """Fitted heights are exact: the generators span the box, so ``generate``'s fit is the identity."""
@@ -201,6 +201,7 @@ FIT_CASES = {
     "cart": ((0.6, 0.4, 0.85), [0.15, 0.5]),
     "dresser": ((1.2, 0.5, 0.8), [0.4]),
     "counter_top": ((2.0, 0.62, 0.9), [0.35]),
+    "fridge": ((0.8, 0.75, 1.8), [0.5, 0.95]),
 }
 
 
@@ -301,8 +302,31 @@ def test_fridge_door_split_with_handles():
         handles = parts_named(asset, "handle")
         assert len(doors) == 2 and len(handles) == 2
         assert max(span(h, 1)[1] for h in handles) == pytest.approx(0.35)
-        (body,) = parts_named(asset, "body")
-        assert all(span(d, 1)[0] >= span(body, 1)[1] - 1e-9 for d in doors)
+        (roof,) = parts_named(asset, "roof")
+        assert all(span(d, 1)[0] >= span(roof, 1)[1] - 1e-9 for d in doors)
+
+
+@pytest.mark.parametrize("style", range(3))
+def test_fridge_is_hollow_with_shelves_behind_closed_doors(style):
+    """Things are kept inside a fridge: shelves under a roof, the doors closing the front."""
+    from pair2scene.assets.surfaces import support_surfaces
+
+    size = (0.8, 0.75, 1.8)
+    asset = generate("fridge", size, rng=3, style=style)
+    inner = [s for s in support_surfaces(asset) if s.z < size[2] / 2 - 0.01]
+    levels = sorted({round(s.z + size[2] / 2, 3) for s in inner})
+    assert len(levels) >= 4, levels  # the floor and a shelf every 0.3-0.4 m
+    assert all(np.isfinite(s.clearance) and s.clearance > 0.08 for s in inner)
+    for s in inner:  # a point 5 cm above each shelf's centre is inside no part
+        c = np.r_[s.polygon.mean(axis=0), s.z + 0.05]
+        assert not inside_any(asset, c), (style, s.z)
+    (roof,) = parts_named(asset, "roof")
+    y_in = span(roof, 1)[1]  # the cabinet's front: the doors cover it all
+    doors = parts_named(asset, "door_")
+    assert sum((span(d, 0)[1] - span(d, 0)[0]) * (span(d, 2)[1] - span(d, 2)[0]) for d in doors) > (
+        0.8 * size[0] * size[2]
+    )
+    assert all(span(d, 1)[0] >= y_in - 1e-9 for d in doors)
 
 
 def test_tv_stand_low_with_top():

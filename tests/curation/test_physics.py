@@ -191,3 +191,21 @@ def test_ai2thor_fixture_room_keeps_most_objects(fixtures):
     # stand-ins differ from the AI2-THOR assets: the bedroom desk's pedestal sits where
     # the source's chair is tucked in, and the desk takes its 15 parts and 7 objects.
     assert kept / total >= 0.65, (kept, total)
+
+
+def test_food_stands_in_a_fridge_and_on_a_table():
+    """An egg on its broad end on a fridge shelf and a potato lying on a table stay put
+    (a round-bottomed egg toppled and a round potato rolled, and curation dropped them)."""
+    fridge = (0.8, 0.75, 1.8)
+    egg, potato = (0.055, 0.055, 0.078), (0.081, 0.123, 0.081)
+    top = TABLE_SIZE[2]
+    objs = [
+        _obj("fridge_0", "fridge", (-2.0, 0.0, fridge[2] / 2), fridge),
+        _obj("egg_0", "egg", (-2.1, -0.05, 0.95 + egg[2] / 2), egg, support="fridge_0"),
+        _obj("egg_1", "egg", (-1.9, 0.05, 0.5 + egg[2] / 2), egg, support="fridge_0"),
+        *_clean_objects(),
+        _obj("potato_0", "potato", (-0.2, 0.0, top + potato[2] / 2), potato, support="table_0"),
+    ]
+    for seed in range(3):
+        out = validate_physics(_scene(objs), config=PhysicsConfig(seed=seed))
+        assert out.dropped == {}, (seed, out.dropped)

@@ -154,3 +154,34 @@ def test_windows_per_room_and_their_shapes_are_counted():
     assert back.window_counts == rs.window_counts and back.window_shapes == rs.window_shapes
     pooled = stats.room_type("garage")  # no garage in training: every room type pooled
     assert pooled.window_counts == {2: 1, 0: 2} and pooled.rooms == 3
+
+
+def test_what_rests_on_a_support_s_top_and_what_inside():
+    """``on_top`` counts dependents resting on their support's box top: a fridge's eggs
+    on its shelves are inside, a mug on the table on top; a support whose top holds
+    nothing (of enough dependents) keeps it free in placement."""
+
+    def obj(oid, cat, z0, h, sup):
+        return SceneObject(oid, cat, OrientedBox.from_yaw([1, 1, z0 + h / 2], [0.1, 0.1, h]),
+                           None, sup)  # fmt: skip
+
+    rooms = []
+    for i in range(25):
+        objects = [
+            obj("fridge_0", "fridge", 0.0, 1.8, FLOOR),
+            obj("egg_0", "egg", 0.4 + 0.02 * i, 0.07, "fridge_0"),  # on a shelf inside
+            obj("table_0", "dining_table", 0.0, 0.75, FLOOR),
+            obj("mug_0", "mug", 0.75, 0.1, "table_0"),  # on the top
+        ]
+        rooms.append(Scene(f"k{i}", Room("kitchen", ROOM), objects, source="test", split="train"))
+    stats = HierarchyStats.fit(rooms)
+    assert stats.on_top == {"fridge": 0, "dining_table": 25}
+    assert stats.top_kept_free() == frozenset({"fridge"})
+    assert stats.top_kept_free(min_dependents=30) == frozenset()  # too few to tell
+    back = HierarchyStats.from_json(stats.to_json())
+    assert back.on_top == stats.on_top
+    assert HierarchyStats.merge([stats, back]).on_top == {"fridge": 0, "dining_table": 50}
+    doc = json.loads(stats.to_json())
+    del doc["on_top"]  # written before it was kept: no rule
+    old = HierarchyStats.from_dict(doc)
+    assert old.on_top is None and old.top_kept_free() == frozenset()

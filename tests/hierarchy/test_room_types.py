@@ -251,3 +251,23 @@ def test_generate_an_office_end_to_end(tmp_path):
     assert cats["desk"] >= 1 and "bed" not in cats
     proc = run_cli("validate", str(out / "office_0000" / "scene.json"))
     assert proc.returncode == 0, proc.stderr
+
+
+@pytest.mark.parametrize("text, room", [("a study with a desk", "study"),
+                                        ("a kids room with a bed", "kids_room")])  # fmt: skip
+def test_text_naming_a_composed_type_gets_its_recipe(text, room):
+    """A description naming a composed type draws that type's rooms: a study's furniture
+    beside the named desk (its chair at the desk), a kids' room's around the bed."""
+    from pair2scene.hierarchy.build import build_hierarchy
+
+    seen = Counter()
+    for seed in range(5):
+        h = build_hierarchy(text=text, seed=seed, llm="never")
+        assert h.room_type == room
+        cats = Counter(n.category for n in h.nodes)
+        seen.update(cats.keys())
+        assert len(h.nodes) > 4  # the room's furniture and what it holds, not just the noun
+    if room == "study":
+        assert seen["chair"] == 5 and seen["bed"] == 0
+    else:
+        assert seen["bed"] == 5 and seen["desk"] >= 1

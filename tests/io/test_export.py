@@ -11,7 +11,7 @@ from PIL import Image
 from pair2scene.assets.registry import generate
 from pair2scene.io.export import SCENE_FILES, write_scene_folder
 from pair2scene.io.scene_json import read_scene
-from pair2scene.io.scene_meshes import room_meshes, semantic_color
+from pair2scene.io.scene_meshes import room_color, room_meshes, semantic_color
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
 
@@ -63,9 +63,11 @@ def test_walls_leave_the_door_open_and_colours_are_stable():
     scene, _ = small_scene()
     walls = dict(room_meshes(scene.room))
     bottom = [m for n, m in walls.items() if n.startswith("wall_0_")]
-    assert len(bottom) == 3  # left of the door, the lintel, right of the door
-    lintel = min(bottom, key=lambda m: m.bounds[1, 0] - m.bounds[0, 0])
+    assert len(bottom) == 2  # left of the door, right of the door
+    (lintel,) = [m for n, m in walls.items() if n.startswith("door_0_")]
     assert lintel.bounds[0, 2] == pytest.approx(2.1)
+    # seen from above the door is a gap in the wall: its lintel takes the floor's colour
+    assert room_color("door_0_1", top_view=True) == room_color("floor") != room_color("door_0_1")
     assert semantic_color("bed") == semantic_color("bed") != semantic_color("mug")
 
 

@@ -343,6 +343,7 @@ class Placer:
         sup_dep: dict[str, dict[str, int]] | None = None,
         walls: WallRules | None = None,
         anchors: AnchorRules | None = None,
+        top_free: frozenset[str] = frozenset(),
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -356,6 +357,11 @@ class Placer:
         self.anchors = anchors
         """How floor objects stand at their functional anchors (None: anywhere the model
         draws them)."""
+        self.top_free = top_free
+        """Support categories whose box top holds nothing in the training rooms
+        (:meth:`~pair2scene.curation.stats.HierarchyStats.top_kept_free`: a fridge's eggs
+        are inside it, a sofa's cushions on its seat): their dependents rest on a surface
+        below the top."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -500,6 +506,7 @@ class Placer:
             others = _stack([placed[i].box for i in ids])
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check)  # fmt: skip
+            context.below_top = support.category in self.top_free
             accepted = None
             own: dict[str, int] = {}
             tried = 0
@@ -698,7 +705,7 @@ class Placer:
             return box, None, False  # where drawn, carried or not
         sp = ctx.placed[ctx.support]
         rest = rest_on_surfaces(sp.asset, sp.box, box, contact=ctx.contact,
-                                max_shift=cfg.repair_m)  # fmt: skip
+                                max_shift=cfg.repair_m, top=not ctx.below_top)  # fmt: skip
         if rest is None:
             return None, "unsupported", False
         z, shift = rest
@@ -798,6 +805,8 @@ class _Context:
     """The wall the candidates are drawn against (None: no wall)."""
     mount: Wall | None = None
     """The wall a mounted object's candidates hang on (None: not mounted)."""
+    below_top: bool = False
+    """Rest on the support's surfaces below its top (:attr:`Placer.top_free`)."""
 
     dressing: _Dressing | None = None
     """Where curtains or blinds hang (None: not a window dressing)."""

@@ -34,6 +34,9 @@ class RestRules:
     min_corner_fraction: float = 0.75
     """Contact-footprint corners that must be over the surface, besides the centre: 3 of
     4, so an object may overhang a little (a laptop's edge past a desk) but not hang off."""
+    top_band_m: float = 0.05
+    """A surface this close to its support's top is the top (the same band as the
+    statistics' :data:`~pair2scene.curation.stats.ON_TOP_M`)."""
     max_drop_m: float = 0.5
     """A surface this far below the predicted bottom is not where the model meant the
     object to go (a shelf's bottom tier when it predicted the top): it is taken only when
@@ -102,17 +105,24 @@ def rest_on_surfaces(
     rules: RestRules = RULES,
     contact: np.ndarray | None = None,
     max_shift: float = 0.0,
+    top: bool = True,
 ) -> tuple[float, np.ndarray] | None:
     """Where ``box`` comes to rest on ``support`` (posed at ``support_box``): the world z of
     the surface and the world xy shift (zero unless it had to be moved on, at most
-    ``max_shift``), or None when no surface carries it."""
+    ``max_shift``), or None when no surface carries it. ``top=False``: not on a surface
+    at the support's top (within ``rules.top_band_m``) when it has others (a fridge's
+    shelves, not its roof)."""
     if abs(support_box.rotation[2, 2] - 1.0) > rules.upright_tol:
         return None
     points = np.column_stack([footprint(box, contact), np.zeros(5)])
     local = support_box.to_local(points)[:, :2]
     height = box.top - box.bottom
     best, best_key = None, (True, np.inf, np.inf)
-    for surface in surfaces_of(support):
+    surfaces = surfaces_of(support)
+    if not top:
+        below = [s for s in surfaces if s.z < support_box.size[2] / 2 - rules.top_band_m]
+        surfaces = below or surfaces
+    for surface in surfaces:
         z = float(support_box.center[2] + surface.z)
         gap = z - box.bottom
         if surface.clearance < height:
@@ -165,8 +175,8 @@ def into_room(
                 shift[axis] -= near_lo
             elif 0 < near_hi <= snap:
                 shift[axis] += near_hi
-    if not shift.any():
-        return box
+    if not shift.any():  # (inside the bounds is not inside an L-shaped floor)
+        return box if on_floor(box, poly) else None
     center = box.center.copy()
     center[:2] += shift
     moved_box = OrientedBox(center, box.size, box.rotation)

@@ -1,14 +1,17 @@
-"""Rooms to generate into: sizes per room type from the training rooms, a door, windows,
-a floor.
+"""Rooms to generate into: floor shapes and sizes per room type from the training rooms,
+a door, windows, a floor.
 
-:class:`RoomTable` keeps the bounds (width, depth, height) of every training room per
-type, from the support boxes of a 3D-Pairs folder's floor tuples (3D-Pairs keeps a room's
-bounds, not its polygon, so generated rooms are rectangles). :func:`make_room` draws one,
-puts a door on one of its walls and, given the hierarchy statistics of its room type,
-windows as the training rooms have them (:func:`draw_windows`: how many, and each one's
-width, sill and top, drawn from the rooms' own; ProcTHOR-1k val: 1.0-1.4 windows a room).
-The table of the AI2-THOR + ProcTHOR-1k train rooms ships with the package
-(``resources/rooms.json``).
+The hierarchy statistics of a room type keep every training room's floor polygon and
+height (:attr:`~pair2scene.curation.stats.RoomTypeStats.floor_shapes`: rectangles, and
+the L-, T- and U-shaped rooms that are a third of ProcTHOR's); :func:`make_room` draws
+one large enough for the scene's furniture, turns it a random quarter turn, puts a door
+on one of its walls and windows as the training rooms have them (:func:`draw_windows`:
+how many, and each one's width, sill and top, drawn from the rooms' own; ProcTHOR-1k val:
+1.0-1.4 windows a room). Without shapes (statistics written before they were kept, or
+no statistics) the room is a rectangle of :class:`RoomTable`'s bounds (width, depth,
+height) of the training rooms, from the support boxes of a 3D-Pairs folder's floor
+tuples. The tables of the AI2-THOR + ProcTHOR-1k train rooms ship with the package
+(``resources/stats.json``, ``resources/rooms.json``).
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from pair2scene.assembly.sizes import read_size_arrays
 from pair2scene.assembly.walls import intervals_minus
 from pair2scene.curation.stats import RoomTypeStats, draw_counted
 from pair2scene.io.atomic import atomic_write_text
+from pair2scene.scene.geometry import polygon_area
 from pair2scene.scene.model import FLOOR, Opening, Room
 from pair2scene.scene.walls import walls_of
 
@@ -125,17 +129,26 @@ def make_room(
     stats: RoomTypeStats | None = None,
     min_windows: int = 0,
 ) -> Room:
-    """A rectangular room of a training room's size, with room for ``furniture_m2`` of
-    floor furniture footprint (:data:`MAX_FLOOR_SHARE`), one door on a random wall and
-    the windows of :func:`draw_windows` (none without ``stats``); the floor spans
-    [0, width] x [0, depth]. The windows are drawn after the rest, so a room's size and
-    door do not depend on them; ``min_windows``: at least that many (one for each
-    curtains or blinds the room is to hold), as far as its walls have room."""
-    table = RoomTable.load() if table is None else table
-    w, d, h = table.draw(room_type, rng, furniture_m2 / MAX_FLOOR_SHARE)
-    polygon = np.array([[0.0, 0.0], [w, 0.0], [w, d], [0.0, d]])
-    wall = int(rng.integers(4))
-    a, b = polygon[wall], polygon[(wall + 1) % 4]
+    """A room of a training room's shape and height (:func:`draw_floor`; a rectangle of
+    ``table``'s sizes when ``stats`` has no shapes), with room for ``furniture_m2`` of
+    floor furniture footprint (:data:`MAX_FLOOR_SHARE`), one door on a random wall long
+    enough for it and the windows of :func:`draw_windows` (none without ``stats``); the
+    floor's bounds start at the origin. The windows are drawn after the rest, so a room's
+    shape and door do not depend on them; ``min_windows``: at least that many (one for
+    each curtains or blinds the room is to hold), as far as its walls have room."""
+    min_area = furniture_m2 / MAX_FLOOR_SHARE
+    if stats is not None and stats.floor_shapes:
+        polygon, h = draw_floor(stats.floor_shapes, rng, min_area)
+    else:
+        table = RoomTable.load() if table is None else table
+        w, d, h = table.draw(room_type, rng, min_area)
+        polygon = np.array([[0.0, 0.0], [w, 0.0], [w, d], [0.0, d]])
+    n = len(polygon)
+    lengths = np.linalg.norm(np.roll(polygon, -1, axis=0) - polygon, axis=1)
+    fits = np.flatnonzero(lengths >= DOOR_WIDTH_M + 2 * DOOR_CORNER_GAP_M)
+    # a rectangle's door wall is one of its four, as before shapes were kept
+    wall = int(rng.integers(n)) if n == 4 or not len(fits) else int(fits[rng.integers(len(fits))])
+    a, b = polygon[wall], polygon[(wall + 1) % n]
     length = float(np.linalg.norm(b - a))
     doors: tuple[Opening, ...] = ()
     if length >= DOOR_WIDTH_M + 2 * DOOR_CORNER_GAP_M:
@@ -150,6 +163,29 @@ def make_room(
         windows = draw_windows(polygon, float(h), doors, stats.window_counts,
                                stats.window_shapes, rng, min_windows)  # fmt: skip
     return Room(room_type, polygon, float(h), doors, windows)
+
+
+def draw_floor(
+    shapes: Counter[tuple[float, ...]], rng: np.random.Generator, min_area: float = 0.0
+) -> tuple[np.ndarray, float]:
+    """(floor polygon (N, 2) counter-clockwise, height) of a training room drawn from
+    ``shapes`` (:attr:`~pair2scene.curation.stats.RoomTypeStats.floor_shapes`, weighted
+    by how many rooms had it) among those with at least ``min_area`` m2 of floor (the
+    largest when none has), turned a random quarter turn, its bounds starting at the
+    origin."""
+    keys = sorted(shapes)
+    polys = [np.asarray(k[1:], float).reshape(-1, 2) for k in keys]
+    area = np.array([polygon_area(p) for p in polys])
+    large = np.flatnonzero(area >= min_area)
+    if not len(large):
+        i = int(np.argmax(area))
+    else:
+        p = np.array([shapes[keys[j]] for j in large], float)
+        i = int(large[rng.choice(len(large), p=p / p.sum())])
+    turn = int(rng.integers(4))
+    c, s = np.round(np.cos(turn * np.pi / 2)), np.round(np.sin(turn * np.pi / 2))
+    poly = polys[i] @ np.array([[c, s], [-s, c]])
+    return poly - poly.min(axis=0), float(keys[i][0])
 
 
 def draw_windows(

@@ -38,17 +38,22 @@ _SALT = 18
 class WallRules:
     """Wall rates per room type and category, and anchor distances per pair."""
 
-    rates: dict[str, dict[str, tuple[int, int]]] = field(default_factory=dict)
-    """room type -> category -> (against a wall, on the floor)."""
+    rates: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
+    """room type -> category -> (against a wall, on the floor); a composed type's are its
+    base types' counts, weighted by the recipe (not whole numbers)."""
     distances: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     """dependent -> functional anchor -> (mean, std) of the anchor's distance (m) from the
     dependent's wall."""
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> WallRules:
+        from pair2scene.hierarchy.room_types import composable
+
+        # a composed type (an office) stands its pieces as its base types' rooms do
+        types = {rt: stats.room_type(rt) for rt in (*stats.room_types, *composable(stats))}
         rates = {
             rt: {c: (rs.against_wall.get(c, 0), n) for c, n in rs.on_floor.items()}
-            for rt, rs in stats.room_types.items()
+            for rt, rs in types.items()
         }
         distances: dict[str, dict[str, tuple[float, float]]] = {}
         for dep, per_anchor in stats.wall_anchor.items():

@@ -36,7 +36,7 @@ import numpy as np
 from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
-from pair2scene.scene.model import FLOOR, WALL, Scene, SceneObject, on_wall
+from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall
 from pair2scene.scene.relations import faces, footprint, footprint_gap
 from pair2scene.scene.walls import walls_of
 
@@ -95,6 +95,22 @@ def split_member(member: str) -> tuple[str, bool]:
     return member, False
 
 
+ON_TOP_M = 0.05
+"""A dependent whose bottom is within this of its support's box top rests on the top
+(:attr:`HierarchyStats.on_top`)."""
+
+
+def floor_shape(room: Room) -> tuple[float, ...]:
+    """(height, x0, y0, x1, y1, ...) of ``room`` for :attr:`RoomTypeStats.floor_shapes`:
+    its floor polygon counter-clockwise from the vertex nearest its bounds' lower-left
+    corner, moved so that corner is the origin, to the centimetre."""
+    poly = np.asarray(room.floor_polygon, float)
+    poly = poly - poly.min(axis=0)
+    start = int(np.argmin(np.round(poly, 2) @ (1.0, 1.0 + 1e-6)))
+    poly = np.roll(poly, -start, axis=0)
+    return (round(float(room.height), 2), *(round(float(v), 2) + 0.0 for v in poly.ravel()))
+
+
 @dataclass
 class RoomTypeStats:
     """Counts over the rooms of one type."""
@@ -120,6 +136,12 @@ class RoomTypeStats:
     window_shapes: Counter[tuple[float, float, float]] = field(default_factory=Counter)
     """(width, sill height, top height) of a window, metres to the centimetre -> how many
     windows had it."""
+    floor_shapes: Counter[tuple[float, ...]] = field(default_factory=Counter)
+    """A room's (height, x0, y0, x1, y1, ...): its height and its floor polygon,
+    counter-clockwise, moved to start at the origin corner of its bounds, metres to the
+    centimetre -> how many rooms had it (a third of the ProcTHOR rooms are L-shaped or
+    more). Empty in statistics written before it was kept (then generated rooms are
+    rectangles of the room table's sizes)."""
 
     def wall_rate(self, category: str, prior: float = 1.0) -> float:
         """Share of ``category``'s floor objects that stand against a wall, with ``prior``
@@ -153,6 +175,7 @@ class RoomTypeStats:
         self.against_wall.update(other.against_wall)
         self.window_counts.update(other.window_counts)
         self.window_shapes.update(other.window_shapes)
+        self.floor_shapes.update(other.floor_shapes)
 
 
 def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
@@ -201,6 +224,11 @@ class HierarchyStats:
     """support category -> anchor category -> dependent category -> dependents on that
     support in rooms where another object of the anchor category stands on the same
     support: the denominator of "a chair takes the room's table as its anchor"."""
+    on_top: Counter[str] | None = field(default_factory=Counter)
+    """support category -> its dependents resting on the top of its box (their bottom
+    within :data:`ON_TOP_M` of it), out of ``sup_dep[support]``'s total: a table's things
+    all do, a fridge's never (they are inside), a sofa's never (on the seat, below the
+    backrest's top). None in statistics written before it was kept."""
 
     # -- fitting ------------------------------------------------------------------
     @classmethod
@@ -228,6 +256,9 @@ class HierarchyStats:
             if anchor is None:
                 continue
             self.sup_dep.setdefault(anchor, Counter())[o.category] += 1
+            holder = by_id.get(o.support)
+            if holder is not None and self.on_top is not None:
+                self.on_top[anchor] += int(o.box.bottom >= holder.box.top - ON_TOP_M)
             func = None if o.functional_anchor is None else cat_of(o.functional_anchor)
             if func is not None:
                 per_support = self.func_dep.setdefault(anchor, {})
@@ -244,6 +275,7 @@ class HierarchyStats:
         for w in scene.room.windows:
             shape = (w.width, max(w.z_min, 0.0), w.z_max)
             room.window_shapes[tuple(round(float(v), 2) for v in shape)] += 1
+        room.floor_shapes[floor_shape(scene.room)] += 1
         walls = walls_of(scene.room.floor_polygon)
         for o in placed:
             if o.support != FLOOR:
@@ -309,7 +341,25 @@ class HierarchyStats:
                 dst = out.func_present.setdefault(sup, {})
                 for anchor, deps in per_anchor.items():
                     dst.setdefault(anchor, Counter()).update(deps)
+            if p.on_top is None or out.on_top is None:
+                out.on_top = None
+            else:
+                out.on_top.update(p.on_top)
         return out
+
+    def top_kept_free(self, min_dependents: int = 20, max_share: float = 0.02) -> frozenset:
+        """Support categories whose box top holds nothing in the data (at most
+        ``max_share`` of at least ``min_dependents`` dependents rest there): a fridge, a
+        sofa, a bed. Empty when ``on_top`` was not kept."""
+        if self.on_top is None:
+            return frozenset()
+        out = set()
+        for sup, deps in self.sup_dep.items():
+            n = sum(deps.values())
+            if sup not in (FLOOR, WALL) and n >= min_dependents:
+                if self.on_top.get(sup, 0) <= max_share * n:
+                    out.add(sup)
+        return frozenset(out)
 
     # -- queries ------------------------------------------------------------------
     def room_type(self, room_type: str) -> RoomTypeStats:
@@ -337,7 +387,8 @@ class HierarchyStats:
             part = self.room_types[base]
             scale = weight / sum(bases.values()) * pooled.rooms / part.rooms
             for name in ("layouts", "object_counts", "layout_counts", "on_floor",
-                         "against_wall", "window_counts", "window_shapes"):  # fmt: skip
+                         "against_wall", "window_counts", "window_shapes",
+                         "floor_shapes"):  # fmt: skip
                 counts = getattr(pooled, name)
                 for key, n in getattr(part, name).items():
                     counts[key] += n * scale
@@ -373,6 +424,7 @@ class HierarchyStats:
                 },
                 "window_counts": counts(rs.window_counts),
                 "window_shapes": [[*k, n] for k, n in sorted(rs.window_shapes.items())],
+                "floor_shapes": [[*k, n] for k, n in sorted(rs.floor_shapes.items())],
             }
         return {
             "format": STATS_FORMAT,
@@ -391,6 +443,7 @@ class HierarchyStats:
                 s: {a: counts(d) for a, d in sorted(pa.items())}
                 for s, pa in sorted(self.func_present.items())
             },
+            **({} if self.on_top is None else {"on_top": counts(self.on_top)}),
         }
 
     def to_json(self) -> str:
@@ -428,6 +481,10 @@ class HierarchyStats:
                     rs.window_counts[int(k)] = int(v)
                 for width, sill, top, n in rd.get("window_shapes", []):
                     rs.window_shapes[float(width), float(sill), float(top)] += int(n)
+                for *shape, n in rd.get("floor_shapes", []):
+                    if len(shape) < 7 or len(shape) % 2 == 0:
+                        raise ValueError(f"a floor shape of {len(shape)} numbers")
+                    rs.floor_shapes[tuple(float(v) for v in shape)] += int(n)
                 out.room_types[rtype] = rs
             for d, pa in doc.get("wall_anchor", {}).items():
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
@@ -437,6 +494,8 @@ class HierarchyStats:
                 out.func_present[sup] = {
                     a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()
                 }
+            top = doc.get("on_top")
+            out.on_top = None if top is None else Counter({k: int(v) for k, v in top.items()})
         except (KeyError, TypeError, ValueError, AttributeError) as e:
             raise UserError(f"{where}: malformed statistics ({type(e).__name__}: {e})") from None
         return out

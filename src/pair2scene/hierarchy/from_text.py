@@ -115,6 +115,12 @@ def hierarchy_from_spec(
     st = Statistics(load_stats() if stats is None else stats)
     rng = np.random.default_rng(config.seed)
     room_type = infer_room_type(spec, st)
+    rs = st.stats.room_types.get(room_type)
+    if rs is None:  # a composed type (a study): its view of the statistics, its rooms
+        from pair2scene.hierarchy.room_types import composable
+
+        if room_type in composable(st.stats):
+            st, rs = Statistics.for_room(st.stats, room_type)
     h = Hierarchy(room_type)
     if spec.unparsed:
         h.notes.append("not understood: " + ", ".join(spec.unparsed))
@@ -123,7 +129,6 @@ def hierarchy_from_spec(
     instances: dict[str, list[Node]] = {}
     named = frozenset(m.category for m in spec.mentions)
     hung = frozenset(spec.on_wall)
-    rs = st.stats.room_types.get(room_type)
 
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)

@@ -313,6 +313,7 @@ def compose(
     pooled = stats.room_type(name)  # the base types' room-level statistics, weighted
     out.window_counts = Counter(pooled.window_counts)
     out.window_shapes = Counter(pooled.window_shapes)
+    out.floor_shapes = Counter(pooled.floor_shapes)
     out.on_floor = Counter(pooled.on_floor)
     out.against_wall = Counter(pooled.against_wall)
     return out

@@ -175,19 +175,21 @@ _BED, _LIV, _KIT, _BATH = (
     RoomType.BATHROOM.value,
 )
 _DIN, _OFF, _APT = RoomType.DINING_ROOM.value, RoomType.OFFICE.value, RoomType.APARTMENT.value
+# composed room types (resources/room_types.json), not in RoomType: no training room has them
+_STUDY, _KIDS = "study", "kids_room"
 # fmt: off
 ROOM_WORDS: dict[str, str] = {
     "bedroom": _BED, "bed room": _BED, "master bedroom": _BED, "guest bedroom": _BED,
-    "guest room": _BED, "spare room": _BED, "kids room": _BED, "kid room": _BED,
-    "childrens room": _BED, "children room": _BED, "nursery": _BED,
+    "guest room": _BED, "spare room": _BED, "kids room": _KIDS, "kid room": _KIDS,
+    "childrens room": _KIDS, "children room": _KIDS, "nursery": _BED,
     "living room": _LIV, "livingroom": _LIV, "lounge": _LIV, "family room": _LIV,
     "sitting room": _LIV, "front room": _LIV, "tv room": _LIV, "den": _LIV,
     "kitchen": _KIT, "kitchenette": _KIT,
     "bathroom": _BATH, "bath room": _BATH, "restroom": _BATH, "washroom": _BATH,
     "powder room": _BATH, "shower room": _BATH, "ensuite": _BATH, "en suite": _BATH,
     "dining room": _DIN, "dining area": _DIN,
-    "office": _OFF, "home office": _OFF, "study": _OFF, "study room": _OFF,
-    "workspace": _OFF, "work space": _OFF, "workroom": _OFF, "library": _OFF,
+    "office": _OFF, "home office": _OFF, "study": _STUDY, "study room": _STUDY,
+    "workspace": _OFF, "work space": _OFF, "workroom": _OFF, "library": _STUDY,
     "studio apartment": _APT, "studio": _APT, "apartment": _APT, "flat": _APT, "loft": _APT,
     "bedsit": _APT, "condo": _APT, "living dining room": _APT,
 }

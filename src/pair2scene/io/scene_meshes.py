@@ -37,11 +37,14 @@ as a light-blue mark along its wall as a door shows as a gap."""
 
 def room_color(name: str, top_view: bool = False) -> tuple[int, int, int]:
     """The colour of a :func:`room_meshes` piece: the floor, a window's pane (and, seen
-    from above, the wall above and below it: ``window_*``), or wall."""
+    from above, the wall above and below it: ``window_*``), or wall (a door's lintel
+    ``door_*`` too, but seen from above it takes the floor's colour: a gap)."""
     if name == "floor":
         return FLOOR_RGB
     if name.endswith("_pane") or (top_view and name.startswith("window_")):
         return WINDOW_RGB
+    if top_view and name.startswith("door_"):
+        return FLOOR_RGB
     return WALL_RGB
 
 
@@ -69,7 +72,8 @@ def object_meshes(scene: Scene, assets: dict) -> list[tuple[str, str, Mesh]]:
 
 def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
     """The floor slab under z = 0 and one wall per polygon edge, door and window openings
-    left free: ``floor``, ``wall_<edge>_<piece>``, the wall below and above each window
+    left free: ``floor``, ``wall_<edge>_<piece>``, the lintel above each door
+    ``door_<edge>_<piece>``, the wall below and above each window
     ``window_<edge>_<piece>`` and its glass ``window_<edge>_<piece>_pane``.
 
     Walls stand outside the floor polygon, :data:`WALL_THICKNESS_M` thick, their inner
@@ -107,7 +111,7 @@ def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
             s0 = max(s0, at)  # (overlapping openings: the first one's cut holds)
             if s1 <= s0:
                 continue
-            prefix = "wall" if kind == "door" else "window"
+            prefix = kind  # "door": its lintel; "window": the wall below and above it
             spans.append((at, s0, 0.0, room.height, "wall"))
             spans.append((s0, s1, 0.0, bottom, prefix))  # the wall under a window's sill
             spans.append((s0, s1, top, room.height, prefix))  # the lintel above it

@@ -858,14 +858,73 @@ def wardrobe(
 # =======================================================================================
 # appliances and containers
 # =======================================================================================
-@register("fridge", variants=3)
+FRIDGE_SPLIT = {0: (0.66, 0.72), 1: (0.30, 0.36), 2: (0.42, 0.48)}
+"""Where the doors split, as a share of the height above the kick (styles 0 and 1: the
+freezer's floor) or of the width (style 2, side by side: the wall between them)."""
+
+
+def _fridge_cabinet(
+    x0: float,
+    x1: float,
+    y0: float,
+    yf: float,
+    h: float,
+    kick: float,
+    style: int,
+    support_heights: Sequence[float] | None,
+    rng: np.random.Generator,
+) -> tuple[list[Part], float]:
+    """The fridge's hollow cabinet, x0..x1, y0..yf (the doors' inner face), floor to h:
+    a solid base up to the inner floor, side walls, back, roof, shelves and the freezer
+    divider at the doors' split (``FRIDGE_SPLIT``: a shelf, or a wall for style 2).
+    Returns the parts and the split (z, or x for style 2) for the doors."""
+    w, dd = x1 - x0, yf - y0
+    wall = min(clip(0.06 * min(w, dd), 0.025, 0.045), 0.2 * w, 0.2 * dd)
+    floor = kick + wall
+    roof = h - wall
+    shelf = min(clip(0.015 * w, 0.006, 0.012), 0.05 * h)
+    xi0, xi1, yi0 = x0 + wall, x1 - wall, y0 + wall
+    parts = [
+        slab("base", (x0, y0, 0.0), (x1, yf, floor)),
+        *_sides(x0, x1, wall, y0, yf, floor, roof),
+        slab("back", (xi0, y0, floor), (xi1, yi0, roof)),
+        slab("roof", (x0, y0, roof), (x1, yf, h)),
+    ]
+    levels = _levels(roof + TOP_SNAP_M, shelf, floor, support_heights, rng, max_gaps=8)
+    levels = _fill_gaps(levels, roof, shelf)
+    boards = [lv for lv in levels if lv.top - lv.thickness >= floor - 1e-9 and lv.top < roof]
+    lo, hi = FRIDGE_SPLIT[style]
+    if style == 2:
+        split = x0 + w * rng.uniform(lo, hi)
+        parts.append(slab("divider", (split - wall / 4, yi0, floor), (split + wall / 4, yf, roof)))
+    else:
+        split = kick + (h - kick) * rng.uniform(lo, hi)
+        # the freezer floor, unless a shelf lies near it (no sliver of a bay)
+        if all(abs(lv.top - split) > 0.15 for lv in boards) and split + 0.15 < roof:
+            boards.append(_Level(split, shelf, False))
+    boards.sort(key=lambda lv: lv.top)
+    parts += [
+        slab(f"shelf_{i}", (xi0, yi0, lv.bottom), (xi1, yf, lv.top))
+        for i, lv in enumerate(b for b in boards if b.top > floor + MIN_BOARD_M)
+    ]
+    return parts, split
+
+
+@register("fridge", variants=3, fits_support_heights=True)
 def fridge(
     size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
 ) -> list[Part]:
-    """Refrigerator: a tall body with its door split at +y and bar handles.
+    """Refrigerator: an insulated cabinet with shelves inside, its door split at +y, bar
+    handles.
 
     Styles: 0 freezer door on top; 1 freezer drawer at the bottom; 2 side-by-side doors
     with a dispenser panel.
+
+    The cabinet is hollow behind the closed doors (walls, back, floor and roof are panels):
+    the training rooms keep eggs, lettuce and milk inside their fridges (55 of the 67 eggs
+    in the ProcTHOR-1k and AI2-THOR val kitchens), so the inside has shelves, fitted to the
+    support heights when given (instance fitting, as a bookcase's tiers), else one every
+    0.3-0.4 m. The freezer's floor is one more shelf where the doors split.
     """
     w, d, h = size
     handle = min(clip(0.04 * d, 0.02, 0.028), 0.15 * d)  # under 3 cm: no shelf on top
@@ -876,13 +935,14 @@ def fridge(
     kick = min(clip(0.05 * h, 0.03, 0.09), 0.1 * h)
     x0, x1, y0 = -w / 2, w / 2, -d / 2
     parts: list[Part] = [
-        slab("body", (x0, y0, 0.0), (x1, yf, h)),
         slab(
             "grille",
             (x0 + 0.05 * w, yf - 0.01, 0.2 * kick),
             (x1 - 0.05 * w, yf + 0.5 * door_t, kick),
         ),
     ]
+    cabinet, split = _fridge_cabinet(x0, x1, y0, yf, h, kick, style, support_heights, rng)
+    parts += cabinet
     z0, z1 = kick, h
     gap = min(2 * FRONT_GAP_M, 0.02 * h)
     grip = front.grip
@@ -891,7 +951,7 @@ def fridge(
         return slab(name, (x - grip / 2, front.y_face, za), (x + grip / 2, y_handle, zb))
 
     if style == 2:
-        xm = x0 + w * rng.uniform(0.42, 0.48)
+        xm = split
         parts += [
             front.panel("door_freezer", x0, xm, z0, z1),
             front.panel("door_fridge", xm, x1, z0, z1),
@@ -912,7 +972,6 @@ def fridge(
             )
         )
         return _finish(parts, h)
-    split = z0 + (z1 - z0) * (rng.uniform(0.66, 0.72) if style == 0 else rng.uniform(0.3, 0.36))
     parts += [
         front.panel("door_upper", x0, x1, split, z1),
         front.panel("door_lower", x0, x1, z0, split),
