@@ -165,7 +165,8 @@ class Pair2Scene:
                              self.config.assembly, sup_dep=self.stats.sup_dep,
                              walls=WallRules.from_stats(self.stats),
                              anchors=AnchorRules.from_stats(self.stats),
-                             top_free=self.stats.top_kept_free())  # fmt: skip
+                             top_free=self.stats.top_kept_free(
+                                 max_share=self.config.assembly.top_free_share))  # fmt: skip
 
     @classmethod
     def from_pretrained(

@@ -38,3 +38,18 @@ def test_a_fridge_s_food_is_inside_it(p2s):
             assert fridge.box.bottom + 0.05 < o.box.bottom < fridge.box.top - 0.05, o.id
             inside += 1
     assert inside >= 3
+
+
+def test_which_tops_stay_free_is_a_setting():
+    from pair2scene.assembly.place import AssemblyConfig
+    from pair2scene.errors import UserError
+    from pair2scene.generate import GenerateConfig
+
+    default = Pair2Scene.from_pretrained("random")
+    assert {"fridge", "sofa"} <= default.placer.top_free
+    off = Pair2Scene.from_pretrained(
+        "random", GenerateConfig(assembly=AssemblyConfig(top_free_share=-1.0))
+    )
+    assert off.placer.top_free == frozenset()
+    with pytest.raises(UserError, match="top-free-share"):
+        AssemblyConfig(top_free_share=1.5)

@@ -350,8 +350,8 @@ class HierarchyStats:
     def top_kept_free(self, min_dependents: int = 20, max_share: float = 0.02) -> frozenset:
         """Support categories whose box top holds nothing in the data (at most
         ``max_share`` of at least ``min_dependents`` dependents rest there): a fridge, a
-        sofa, a bed. Empty when ``on_top`` was not kept."""
-        if self.on_top is None:
+        sofa, a bed. Empty when ``on_top`` was not kept or ``max_share`` is negative."""
+        if self.on_top is None or max_share < 0:
             return frozenset()
         out = set()
         for sup, deps in self.sup_dep.items():
