@@ -33,7 +33,14 @@ from pair2scene.assembly.collision import MeshWorld, Shape, Tolerances, obb_over
 from pair2scene.assets.mesh import Asset
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, WALL, Scene, wall_index
-from pair2scene.scene.walls import AGAINST_ANGLE_DEG, FACES, MIN_OVERLAP, Wall, walls_of
+from pair2scene.scene.walls import (
+    AGAINST_ANGLE_DEG,
+    FACE_AXES,
+    FACES,
+    MIN_OVERLAP,
+    Wall,
+    walls_of,
+)
 
 COLLISION_DEPTH_M = 0.005
 """Penetration that counts as an intersection: half a centimetre, above the 2 mm contact
@@ -88,11 +95,6 @@ def intersecting(
     return out
 
 
-_FACE_AXES = {"back": (1, -1.0), "left": (0, -1.0), "right": (0, 1.0), "front": (1, 1.0)}
-"""A vertical face (:data:`~pair2scene.scene.walls.FACES`): (local axis it is normal to,
-sign of its outward normal along that axis)."""
-
-
 def wall_rest(
     box: OrientedBox,
     wall: Wall,
@@ -122,7 +124,7 @@ def wall_rest(
     signs = np.sign((corners - box.center) @ box.rotation)  # (8, 3)
     why = f"no face parallel to wall {wall.index} within {max_angle:.0f} degrees"
     for face in FACES:
-        axis, sign = _FACE_AXES[face]
+        axis, sign = FACE_AXES[face]
         normal = box.rotation[:, axis] * sign  # outward, world
         cos = float(-normal @ inward)
         if cos < np.cos(np.radians(max_angle)):

@@ -38,12 +38,10 @@ MIN_OVERLAP = 0.5
 FACES = ("back", "left", "right", "front")
 """An object's vertical faces by their outward normal in its local frame: back -y,
 left -x, right +x, front +y. ``back`` against a wall means facing into the room."""
-_FACE_NORMALS = {
-    "back": np.array([0.0, -1.0]),
-    "left": np.array([-1.0, 0.0]),
-    "right": np.array([1.0, 0.0]),
-    "front": np.array([0.0, 1.0]),
-}
+FACE_AXES = {"back": (1, -1.0), "left": (0, -1.0), "right": (0, 1.0), "front": (1, 1.0)}
+"""Each of :data:`FACES`: (local axis it is normal to, sign of its outward normal along
+that axis)."""
+_FACE_NORMALS = {face: np.eye(2)[axis] * sign + 0.0 for face, (axis, sign) in FACE_AXES.items()}
 
 
 @dataclass(frozen=True)
@@ -156,7 +154,7 @@ def face_contacts(
         if n_len < 0.5:  # not upright enough to have vertical faces
             continue
         n = n / n_len
-        across = 0 if face in ("left", "right") else 1  # local axis the face is normal to
+        across = FACE_AXES[face][0]  # local axis the face is normal to
         along_axis = 1 - across
         face_center = center + n * half[across]
         face_dir = rot[:, along_axis] / max(float(np.linalg.norm(rot[:, along_axis])), 1e-12)
