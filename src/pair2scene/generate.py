@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pair2scene.assembly.anchors import AnchorRules
+from pair2scene.assembly.anchors import AnchorRules, SpotRules
 from pair2scene.assembly.keep import Kept, load_keep, merge_keep
 from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
 from pair2scene.assembly.records import Dropped
@@ -165,6 +165,7 @@ class Pair2Scene:
                              self.config.assembly, sup_dep=self.stats.sup_dep,
                              walls=WallRules.from_stats(self.stats),
                              anchors=AnchorRules.from_stats(self.stats),
+                             spots=SpotRules.from_stats(self.stats),
                              top_free=self.stats.top_kept_free(
                                  max_share=self.config.assembly.top_free_share))  # fmt: skip
 

@@ -57,6 +57,24 @@ def test_nothing_moves_under_the_cap():
     assert not moves and not overflow and balanced.support == h.support
 
 
+def test_a_supports_largest_dependent_stays_whatever_its_footprint():
+    """The load bounds clutter: a television whose box covers most of its stand stays on
+    it, and what comes after it moves off."""
+    h = Hierarchy("living_room")
+    stand = h.add("tv_stand", FLOOR)
+    tv = h.add("television", stand.id)
+    vase = h.add("vase", stand.id)
+    table = h.add("side_table", FLOOR)
+    sizes = {"tv_stand": [1.2, 0.45, 0.55], "television": [1.2, 0.3, 0.7],
+             "vase": [0.15, 0.15, 0.3], "side_table": [0.5, 0.5, 0.6]}  # fmt: skip
+    assets = {n.id: generate(n.category, sizes[n.category], i) for i, n in enumerate(h.nodes)}
+    sup_dep = {"tv_stand": {"television": 9, "vase": 2}, "side_table": {"vase": 3}}
+    assert np.prod(sizes["television"][:2]) > 0.3 * surface_area(assets[stand.id])
+    balanced, moves, overflow = balance_supports(h.validate(), assets, sup_dep, BalanceRules(0.3))
+    assert balanced.support[tv.id] == stand.id and not overflow
+    assert [(m.id, m.target) for m in moves] == [(vase.id, table.id)]
+
+
 def test_largest_first_keeps_anchors_before_dependents():
     h = Hierarchy("bedroom")
     desk = h.add("desk", FLOOR)

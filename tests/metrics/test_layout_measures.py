@@ -124,6 +124,17 @@ def test_a_chair_under_the_table_faces_its_centre_and_other_seats_do_not_count()
     assert chairs_facing_table(room(chair)) == [0, 0]
 
 
+def test_a_chair_beside_a_side_table_is_at_no_table():
+    """A side table stands beside a seat (the training rooms' chairs face theirs 1 time
+    in 7): a chair next to one is not counted; with a dining table near as well, it is
+    counted at the dining table, which it does not face."""
+    side = obj("s", "side_table", [2, 2], [0.5, 0.5, 0.6])
+    beside = obj("c", "chair", [2.6, 2], CHAIR, yaw=WEST)  # turned to the side table
+    assert chairs_facing_table(room(side, beside)) == [0, 0]
+    table = obj("t", "dining_table", [2, 3.05], [1.2, 0.8, 0.75])  # 0.4 m north of it
+    assert chairs_facing_table(room(side, table, beside)) == [0, 1]
+
+
 def test_the_nearest_table_is_the_one_faced():
     desk = obj("desk", "desk", [2, 0.4], [1.2, 0.6, 0.75])
     # 0.13 m from the desk, 0.33 m from the dining table: it is at the desk

@@ -6,7 +6,8 @@ burns its candidates: on the bundled bedrooms, objects on supports filled past 4
 their area took 8.4 resamples each, those below 20 % took 0.1-0.2.
 
 :func:`balance_supports` walks each support's dependents largest first and, once their
-footprints fill :attr:`BalanceRules.max_load` of the support's surface area, moves the rest
+footprints fill :attr:`BalanceRules.max_load` of the support's surface area (its largest
+dependent always stays, whatever its footprint), moves the rest
 to another object of the scene that the curated statistics say carries that category
 (a remote control from a full dresser to the side table), the one with the most free
 area; an object no support has room for is reported as overflow (placement drops it with
@@ -70,7 +71,9 @@ def balance_supports(
     for sup in [s for s in order if s in by_support]:
         for oid in sorted(by_support[sup], key=lambda o: (-footprint(o), rank[o])):
             f = footprint(oid)
-            fits = load[sup] + f <= rules.max_load * area[sup]
+            # The first (largest) always stays: the load bounds clutter, and a television
+            # whose box (screen and foot) covers most of its stand is what the stand is for.
+            fits = load[sup] == 0 or load[sup] + f <= rules.max_load * area[sup]
             if fits or oid in fixed or _is_own_dependent(functional, oid):
                 load[sup] += f
                 continue

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pair2scene.assembly.anchors import AnchorCheck, AnchorRules
+from pair2scene.assembly.anchors import AnchorCheck, AnchorRules, SpotCheck, SpotRules
 from pair2scene.assembly.balance import BalanceRules, balance_supports
 from pair2scene.assembly.collision import (
     TOLERANCES,
@@ -88,6 +88,9 @@ from pair2scene.scene.walls import Wall, wall_contact, walls_of
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
 collision test, so more would be unbounded work, not a better placement."""
+SPOT_RETRIES = 8
+"""Candidates rejected only for standing off their spot on the support that are moved
+onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
 
 
 @dataclass(frozen=True)
@@ -166,6 +169,17 @@ class AssemblyConfig:
     ``far_from_anchor``) and an object none of whose candidates passes is dropped. Only
     for a model that draws in its anchors' frames (``draws_in_frames``; not the uniform
     baseline). False takes whatever candidate the model draws and the other tests pass."""
+    spots: bool = True
+    """Keep an object on a support where and how the training rooms' did, per dependent
+    and support category (:class:`~pair2scene.assembly.anchors.SpotRules`): facing the
+    support's way as often as they did where they nearly always did (a television on its
+    stand), and no farther from their usual spot on it (a television centred on its stand,
+    pillows at a bed's head); candidates that do not are rejected (``turned``,
+    ``off_spot``). When every candidate is rejected and some only as ``off_spot``, the
+    first of those (up to :data:`SPOT_RETRIES`) are moved onto the nearest point of the
+    spot and tried again: a television wider than its stand, whose draws the model
+    puts off-centre, stands centred rather than nowhere. Only for a model that draws in
+    its anchors' frames, as ``anchors``."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     confine: bool = True
@@ -352,6 +366,7 @@ class Placer:
         walls: WallRules | None = None,
         anchors: AnchorRules | None = None,
         top_free: frozenset[str] = frozenset(),
+        spots: SpotRules | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -370,14 +385,18 @@ class Placer:
         (:meth:`~pair2scene.curation.stats.HierarchyStats.top_kept_free`: a fridge's eggs
         are inside it, a sofa's cushions on its seat): their dependents rest on a surface
         below the top."""
+        self.spots = spots
+        """Where and how objects stand on their supports (None: as the model draws
+        them)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
     ) -> dict[str, Asset]:
         """Every object's asset, seeded by its id and the scene seed (``given`` ones, kept
         objects', as they are). Objects on a support take a size that fits one of its
-        surfaces (a television narrower than its stand's top, a book shorter than the
-        shelf's clearance) when the data has one."""
+        surfaces (a book shorter than the shelf's clearance, a television about as wide
+        as its stand's top, as the training rooms' were: :attr:`SpotGeometry.overhang
+        <pair2scene.assembly.anchors.SpotGeometry.overhang>`) when the data has one."""
         from pair2scene.assets.registry import generate
 
         assets: dict[str, Asset] = dict(given or {})
@@ -388,7 +407,12 @@ class Placer:
             rng = np.random.default_rng(asset_seed(node.id, seed))
             fits = None
             if item.support != FLOOR and item.support in assets:
-                fits = surface_fit(assets[item.support])
+                held = assets[item.support]
+                rule = None
+                if self.config.spots and self.spots is not None:
+                    rule = self.spots.rule(node.category, held.category)
+                fits = surface_fit(held, FIT_MARGIN if rule is None
+                                   else max(FIT_MARGIN, rule.overhang))  # fmt: skip
             size = self.sizes.draw(node.category, rng, fits=fits, mounted=on_wall(item.support))
             # An integer seed for the mesh, recorded in scene.json: read back, the scene
             # rebuilds exactly these shapes (assembly.keep.keep_assets).
@@ -478,11 +502,15 @@ class Placer:
                         Dropped(node.id, node.category, f"{too_big} of {item.support}")
                     )
                     continue
+            spot = None
             if item.support == FLOOR or mounted:  # a mounted one's wall: per query below
                 support = Anchor.floor(bounds)
             else:
                 sp = placed[item.support]
                 support = Anchor(sp.asset.category, sp.box, asset=sp.asset)
+                if cfg.spots and self.spots is not None and framed:
+                    spot = self.spots.check(node.category, sp.asset.category, sp.box,
+                                            asset_seed(node.id, seed))  # fmt: skip
             functional = check = None
             if item.functional is not None and item.functional in placed:
                 fp = placed[item.functional]
@@ -513,11 +541,12 @@ class Placer:
             ids = list(placed)  # fixed while this object's candidates are tried
             others = _stack([placed[i].box for i in ids])
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
-                               contact_rectangle(asset), guard, check)  # fmt: skip
+                               contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
             accepted = None
             own: dict[str, int] = {}
             tried = 0
+            strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
                 dressing = wall if isinstance(wall, _Dressing) else None
@@ -542,17 +571,28 @@ class Placer:
                         accepted = (tried + index, box)
                         stats.repaired += int(moved)
                         break
-                    box, reason, moved = self._settle_candidate(box, context)
+                    settled, reason, moved = self._settle_candidate(box, context)
                     if reason is not None:
                         own[reason] = own.get(reason, 0) + 1
+                        if reason == "off_spot" and len(strays) < SPOT_RETRIES:
+                            strays.append(box)
                         continue
-                    accepted = (tried + index, box)
+                    accepted = (tried + index, settled)
                     stats.repaired += int(moved)
                     break
                 tried += len(boxes)
                 timer["collision"] += time.perf_counter() - t0
                 if accepted is not None:
                     break
+            if accepted is None and strays:  # the model's draws all off the spot: move some
+                t0 = time.perf_counter()
+                for box in strays:
+                    settled, _, _ = self._settle_candidate(spot.onto(box), context)
+                    if settled is not None:
+                        accepted = (tried, settled)
+                        stats.repaired += 1
+                        break
+                timer["collision"] += time.perf_counter() - t0
             for reason, count in own.items():
                 rejections[reason] = rejections.get(reason, 0) + count
             if accepted is None:
@@ -744,11 +784,16 @@ class Placer:
     def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list]:
         """Why a resting candidate cannot stay ("wall": an object on a support reaching
         through a wall, "faces_away" / "not_in_front" / "far_from_anchor": not at its
-        functional anchor as the training rooms' pairs were, "off_wall": no longer against
-        the wall it was drawn against, "door", "collision",
+        functional anchor as the training rooms' pairs were, "turned" / "off_spot": not
+        how or where the training rooms' objects stood on their support, "off_wall": no
+        longer against the wall it was drawn against, "door", "collision",
         "blocks_path") and what it hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
+        if ctx.spot is not None:
+            reason = ctx.spot.reason(box)
+            if reason is not None:
+                return reason, []
         if ctx.anchor is not None:
             reason = ctx.anchor.reason(box, ctx.wall)
             if reason is not None:
@@ -809,6 +854,8 @@ class _Context:
     """Keeps the floor navigable (None: not asked)."""
     anchor: AnchorCheck | None = None
     """Keeps the object at its functional anchor (None: no rule)."""
+    spot: SpotCheck | None = None
+    """Keeps the object at its spot on its support (None: no rule)."""
     wall: Wall | None = None
     """The wall the candidates are drawn against (None: no wall)."""
     mount: Wall | None = None
@@ -830,7 +877,12 @@ class _Dressing:
     box: OrientedBox
 
 
-def surface_fit(support: Asset, margin: float = 0.9):
+FIT_MARGIN = 0.9
+"""Share of a surface's extent a dependent's footprint may take when the data says no
+more (:func:`surface_fit`)."""
+
+
+def surface_fit(support: Asset, margin: float = FIT_MARGIN):
     """A test of sizes (K, 3) -> (K,) bool: which fit on one of ``support``'s surfaces
     (footprint within ``margin`` of the surface's extent either way round, height under
     its clearance)."""

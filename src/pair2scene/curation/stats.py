@@ -17,7 +17,10 @@
   how far their footprints stand apart (:mod:`pair2scene.scene.relations`), and how many
   dependents stood beside an object of the anchor's category at all, from which the
   hierarchy decides how often a chair gets a table when the room has one and placement
-  keeps chairs at their table, facing it.
+  keeps chairs at their table, facing it;
+- per (dependent, support) pair: how often the dependent faces its support's way and
+  where on the support it stands, from which placement keeps a television centred on its
+  stand, facing the way the stand does.
 
 "Placed objects" are those that give relation tuples (pair2scene.curation.tuples):
 objects with a support that are neither structure nor parts. Statistics are plain
@@ -98,6 +101,19 @@ def split_member(member: str) -> tuple[str, bool]:
 ON_TOP_M = 0.05
 """A dependent whose bottom is within this of its support's box top rests on the top
 (:attr:`HierarchyStats.on_top`)."""
+ALIGNED_DEG = 45.0
+"""A dependent whose yaw is within this of its support's faces the support's way
+(:attr:`HierarchyStats.sup_geometry`)."""
+
+
+SUP_SUMS = 8
+"""Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`."""
+
+
+def aligned(relative_yaw: float) -> bool:
+    """Whether a yaw relative to the support's (radians) faces the support's way."""
+    wrapped = (relative_yaw + np.pi) % (2 * np.pi) - np.pi
+    return bool(abs(wrapped) < np.radians(ALIGNED_DEG))
 
 
 def floor_shape(room: Room) -> tuple[float, ...]:
@@ -230,6 +246,15 @@ class HierarchyStats:
     all do, a fridge's never (they are inside), a sofa's never (on the seat, below the
     backrest's top). None in statistics written before it was kept."""
 
+    sup_geometry: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+    """dependent category -> support category -> [n, aligned, sum u, sum u², sum v, sum
+    v², sum w, sum w²]: how many dependents face their support's way (yaws within
+    :data:`ALIGNED_DEG`), where their centres stand on it, ``u`` along its width and ``v``
+    along its depth, both in its canonical frame (-1 to 1 edge to edge), and how wide they
+    are against it, ``w`` the ratio of the long sides of their footprints: a television
+    stands centred on its stand facing its way and about as wide (``w`` 1.00 on average,
+    up to 1.69), a cup anywhere on a table, any way."""
+
     # -- fitting ------------------------------------------------------------------
     @classmethod
     def fit(cls, scenes: Iterable[Scene]) -> HierarchyStats:
@@ -259,6 +284,8 @@ class HierarchyStats:
             holder = by_id.get(o.support)
             if holder is not None and self.on_top is not None:
                 self.on_top[anchor] += int(o.box.bottom >= holder.box.top - ON_TOP_M)
+            if holder is not None:
+                self._add_seat(o, holder)
             func = None if o.functional_anchor is None else cat_of(o.functional_anchor)
             if func is not None:
                 per_support = self.func_dep.setdefault(anchor, {})
@@ -299,6 +326,15 @@ class HierarchyStats:
                gap * gap)  # fmt: skip
         acc[anchor.category] = [a + b for a, b in zip(old, new)]
 
+    def _add_seat(self, dep: SceneObject, support: SceneObject) -> None:
+        local = dep.box.in_frame_of(support.box)
+        u, v = (float(c) for c in local.center[:2])
+        w = float(max(dep.box.size[:2]) / max(max(support.box.size[:2]), 1e-6))
+        new = (1.0, float(aligned(local.yaw)), u, u * u, v, v * v, w, w * w)
+        acc = self.sup_geometry.setdefault(dep.category, {})
+        old = acc.get(support.category, [0.0] * SUP_SUMS)
+        acc[support.category] = [a + b for a, b in zip(old, new)]
+
     def _add_present(self, placed: list[SceneObject], cat_of) -> None:
         by_support: dict[str, list[SceneObject]] = {}
         for o in placed:
@@ -331,7 +367,8 @@ class HierarchyStats:
             for rtype, rs in p.room_types.items():
                 out.room_types.setdefault(rtype, RoomTypeStats()).add(rs)
             for own, theirs in ((out.wall_anchor, p.wall_anchor),
-                                (out.func_geometry, p.func_geometry)):  # fmt: skip
+                                (out.func_geometry, p.func_geometry),
+                                (out.sup_geometry, p.sup_geometry)):  # fmt: skip
                 for dep, per_anchor in theirs.items():
                     dst = own.setdefault(dep, {})
                     for anchor, acc in per_anchor.items():
@@ -439,6 +476,7 @@ class HierarchyStats:
             "room_types": room_types,
             "wall_anchor": _sums(self.wall_anchor),
             "func_geometry": _sums(self.func_geometry),
+            "sup_geometry": _sums(self.sup_geometry),
             "func_present": {
                 s: {a: counts(d) for a, d in sorted(pa.items())}
                 for s, pa in sorted(self.func_present.items())
@@ -490,6 +528,10 @@ class HierarchyStats:
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
             for d, pa in doc.get("func_geometry", {}).items():
                 out.func_geometry[d] = {a: [float(v) for v in acc][:5] for a, acc in pa.items()}
+            for d, pa in doc.get("sup_geometry", {}).items():
+                out.sup_geometry[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
+                if any(len(acc) != SUP_SUMS for acc in out.sup_geometry[d].values()):
+                    raise ValueError(f"sup_geometry of {d}: {SUP_SUMS} sums per support expected")
             for sup, pa in doc.get("func_present", {}).items():
                 out.func_present[sup] = {
                     a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()

@@ -55,9 +55,12 @@ CHAIRS = ("chair",)
 are left out: bar stools are mostly round, so their +y says nothing (ProcTHOR turns them
 any way at its counters), and armchairs are lounge seats that face a coffee table or a
 TV and stand *beside* side tables."""
-TABLES = ("dining_table", "desk", "dressing_table", "side_table")
-"""What a chair is pulled up to: dining tables, desks, dressing tables and side tables.
-Coffee tables are not sat at; counters are for stools."""
+TABLES = ("dining_table", "desk", "dressing_table")
+"""What a chair is pulled up to: dining tables, desks and dressing tables. Coffee tables
+are not sat at; counters are for stools; a side table stands *beside* a seat: of the
+chairs whose nearest table within 1 m is a side table, 1 of 7 faces it in the training
+rooms (AI2-THOR + ProcTHOR-1k train) and 0 of 2 in the val rooms, against 712 of 730 at
+dining tables and desks."""
 SCREENS = ("television", "tv_stand")
 """What a sofa faces: the television, or its stand when the room has no TV object."""
 NIGHTSTANDS = ("side_table",)
