@@ -405,18 +405,25 @@ class Placer:
             if node.id in assets:
                 continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
-            fits = None
-            if item.support != FLOOR and item.support in assets:
-                held = assets[item.support]
+            held = assets.get(item.support) if item.support != FLOOR else None
+            margins = [None]
+            if held is not None:
+                margins = [FIT_MARGIN]
                 rule = None
                 if self.config.spots and self.spots is not None:
                     rule = self.spots.rule(node.category, held.category)
-                fits = surface_fit(held, FIT_MARGIN if rule is None
-                                   else max(FIT_MARGIN, rule.overhang))  # fmt: skip
-            size = self.sizes.draw(node.category, rng, fits=fits, mounted=on_wall(item.support))
-            # An integer seed for the mesh, recorded in scene.json: read back, the scene
-            # rebuilds exactly these shapes (assembly.keep.keep_assets).
-            assets[node.id] = generate(node.category, size, int(rng.integers(2**31)))
+                if rule is not None and rule.overhang > FIT_MARGIN:
+                    margins.insert(0, rule.overhang)
+            for k, margin in enumerate(margins):
+                fits = None if margin is None else surface_fit(held, margin)
+                size = self.sizes.draw(node.category, rng, fits=fits,
+                                       mounted=on_wall(item.support))  # fmt: skip
+                # An integer seed for the mesh, recorded in scene.json: read back, the
+                # scene rebuilds exactly these shapes (assembly.keep.keep_assets).
+                asset = generate(node.category, size, int(rng.integers(2**31)))
+                if k + 1 == len(margins) or no_room_on(asset, held) is None:
+                    break  # (one drawn wider than its support can carry: as narrow as any)
+            assets[node.id] = asset
         return assets
 
     def place(
