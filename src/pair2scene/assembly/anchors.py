@@ -111,25 +111,38 @@ class AnchorCheck:
 
 
 @dataclass
-class AnchorRules:
-    """Facing shares and gap spreads per (dependent, functional anchor) pair."""
+class _PairRules:
+    """Rules per (dependent, anchor) pair, from the statistics' running sums of the pairs
+    seen at least :data:`MIN_PAIRS` times."""
 
-    pairs: dict[str, dict[str, PairGeometry]] = field(default_factory=dict)
+    pairs: dict[str, dict[str, object]] = field(default_factory=dict)
+
+    @classmethod
+    def _from_sums(cls, table: dict[str, dict[str, list[float]]], make):
+        """``make(sums)`` per pair of ``table`` (dependent -> anchor -> sums, the count
+        first) seen often enough."""
+        pairs: dict[str, dict[str, object]] = {}
+        for dep, per_anchor in table.items():
+            for anchor, sums in per_anchor.items():
+                if sums[0] >= MIN_PAIRS:
+                    pairs.setdefault(dep, {})[anchor] = make(*sums)
+        return cls(pairs)
+
+    def rule(self, dependent: str, anchor: str):
+        """The pair's rule, or None when it has none."""
+        return self.pairs.get(dependent, {}).get(anchor)
+
+
+@dataclass
+class AnchorRules(_PairRules):
+    """Facing shares and gap spreads per (dependent, functional anchor) pair."""
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> AnchorRules:
-        pairs: dict[str, dict[str, PairGeometry]] = {}
-        for dep, per_anchor in stats.func_geometry.items():
-            for anchor, (n, facing, faced, total, squares) in per_anchor.items():
-                if n < MIN_PAIRS:
-                    continue
-                mean, std = _mean_std(n, total, squares)
-                rule = PairGeometry(int(n), facing / n, faced / n, mean, std)
-                pairs.setdefault(dep, {})[anchor] = rule
-        return cls(pairs)
+        def make(n, facing, faced, total, squares) -> PairGeometry:
+            return PairGeometry(int(n), facing / n, faced / n, *_mean_std(n, total, squares))
 
-    def rule(self, dependent: str, anchor: str) -> PairGeometry | None:
-        return self.pairs.get(dependent, {}).get(anchor)
+        return cls._from_sums(stats.func_geometry, make)
 
     def check(
         self, dependent: str, anchor: str, anchor_box: OrientedBox, seed: int
@@ -223,25 +236,16 @@ class SpotCheck:
 
 
 @dataclass
-class SpotRules:
+class SpotRules(_PairRules):
     """Facing shares and spots per (dependent, support) pair."""
-
-    pairs: dict[str, dict[str, SpotGeometry]] = field(default_factory=dict)
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> SpotRules:
-        pairs: dict[str, dict[str, SpotGeometry]] = {}
-        for dep, per_support in stats.sup_geometry.items():
-            for support, (n, facing, su, suu, sv, svv, sw, sww) in per_support.items():
-                if n < MIN_PAIRS:
-                    continue
-                u, v, w = _mean_std(n, su, suu), _mean_std(n, sv, svv), _mean_std(n, sw, sww)
-                rule = SpotGeometry(int(n), facing / n, u, v, w)
-                pairs.setdefault(dep, {})[support] = rule
-        return cls(pairs)
+        def make(n, facing, su, suu, sv, svv, sw, sww) -> SpotGeometry:
+            u, v, w = _mean_std(n, su, suu), _mean_std(n, sv, svv), _mean_std(n, sw, sww)
+            return SpotGeometry(int(n), facing / n, u, v, w)
 
-    def rule(self, dependent: str, support: str) -> SpotGeometry | None:
-        return self.pairs.get(dependent, {}).get(support)
+        return cls._from_sums(stats.sup_geometry, make)
 
     def check(
         self, dependent: str, support: str, support_box: OrientedBox, seed: int
