@@ -171,11 +171,18 @@ class Pair2Scene:
 
     @classmethod
     def from_pretrained(
-        cls, model: str | Path | None = None, config: GenerateConfig | None = None
+        cls,
+        model: str | Path | None = None,
+        config: GenerateConfig | None = None,
+        stats: str | Path | None = None,
     ) -> Pair2Scene:
         """A placement model by spec (:func:`load_placement_model`: the bundled one, a
-        checkpoint folder, or a baseline) with the bundled tables."""
-        return cls(load_placement_model(model), config=config)
+        checkpoint folder, or a baseline) with the bundled tables, or with the tables of
+        your own curation (``stats``: its ``stats.json``, :func:`own_tables`)."""
+        if stats is None:
+            return cls(load_placement_model(model), config=config)
+        hierarchy, sizes, rooms = own_tables(stats)
+        return cls(load_placement_model(model), hierarchy, sizes, rooms, config)
 
     def generate(
         self,
@@ -367,6 +374,25 @@ def settle_scene(
     return replace(scene, objects=objects), report
 
 
+def own_tables(stats: str | Path) -> tuple[HierarchyStats, SizeTable | None, RoomTable | None]:
+    """The hierarchy statistics of ``stats`` (a ``stats.json`` that ``pair2scene curate
+    --out DIR`` wrote), with the object sizes and room sizes of its curation when the
+    3D-Pairs folder is beside it (``DIR/manifest.json``; else None: the bundled ones), so
+    that rooms hold your data's categories at your data's sizes."""
+    from pair2scene.curation.dataset import load_pairs
+
+    path = Path(stats)
+    if path.is_dir():
+        path = path / "stats.json"
+    if not path.is_file():
+        raise UserError(f"--stats {stats}: no such file (give the stats.json of a curation)")
+    hierarchy = load_stats(path)
+    if not (path.parent / "manifest.json").is_file():
+        return hierarchy, None, None
+    data = load_pairs(path.parent)
+    return hierarchy, SizeTable.from_pairs(data, split=None), RoomTable.from_pairs(data, None)
+
+
 def generate_scenes(
     out: str | Path,
     room: str | None = None,
@@ -382,6 +408,7 @@ def generate_scenes(
     settle: bool = False,
     ablation: str | Sequence[str] | None = None,
     config: GenerateConfig | None = None,
+    stats: str | Path | None = None,
 ) -> Summary:
     """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``, each in
     ``out/<id>/``; returns the summary (also written as ``out/summary.json``). Scenes
@@ -393,6 +420,8 @@ def generate_scenes(
     model : a spec of :func:`load_placement_model` (``default``, ``random``,
         ``gaussian:PAIRS_DIR``, ``gaussian:FILE.json``, a checkpoint folder).
     ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
+    stats : the ``stats.json`` of your own curation (:func:`own_tables`); None: the bundled
+        statistics and tables.
     """
     from pair2scene.io.export import write_scene_folder
     from pair2scene.io.names import scene_folder
@@ -414,12 +443,14 @@ def generate_scenes(
         request.update(keep=None if keep is None else str(keep), settle=settle)
     if ablations:  # (likewise)
         request["ablation"] = ablations
+    if stats is not None:  # (likewise)
+        request["stats"] = str(stats)
     config = ablation_config(ablations, config)
     settings = config_changes(config, ablation_config(ablations))
     if settings:  # (likewise; the ablations' flags are in "ablation")
         request["settings"] = settings
     summary = resume_summary(out, request)
-    p2s = Pair2Scene.from_pretrained(model, config)
+    p2s = Pair2Scene.from_pretrained(model, config, stats)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
     kept = None if keep is None else load_keep(keep)
     if kept is not None and room is None and text is None:

@@ -57,7 +57,11 @@ def data_fetch(
 @data_app.command("stats")
 def data_stats(
     source: Annotated[
-        str, typer.Argument(help="ai2thor, procthor:PATH (.jsonl.gz) or 3dfront:PATH.")
+        str,
+        typer.Argument(
+            help="ai2thor, procthor:PATH (.jsonl.gz), 3dfront:PATH or scenes:DIR "
+            "(a folder of scene.json files)."
+        ),
     ],
     split: Annotated[str | None, typer.Option(help="train or val; both when omitted.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,

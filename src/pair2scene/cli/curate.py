@@ -18,7 +18,8 @@ def curate(
         list[str],
         typer.Option(
             "--source",
-            help="ai2thor, procthor:PATH (.jsonl.gz or folder) or 3dfront:PATH; repeat for more.",
+            help="ai2thor, procthor:PATH (.jsonl.gz or folder), 3dfront:PATH or scenes:DIR (a "
+            "folder of scene.json files); repeat for more.",
         ),
     ],
     out: Annotated[

@@ -53,6 +53,13 @@ def generate_command(
             "repeatable."
         ),
     ] = None,
+    stats: Annotated[
+        Path | None,
+        typer.Option(
+            help="stats.json of your own curation (pair2scene curate --out DIR): its room "
+            "types, categories and sizes instead of the bundled ones."
+        ),
+    ] = None,
     threads: Annotated[
         int | None, typer.Option(help="CPU threads for torch (default: all cores, at most 4).")
     ] = None,
@@ -69,7 +76,7 @@ def generate_command(
     set_threads(threads)
     summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
                               progress=not as_json, keep=keep, settle=settle,
-                              ablation=ablation, config=config)  # fmt: skip
+                              ablation=ablation, config=config, stats=stats)  # fmt: skip
     if as_json:
         typer.echo(json.dumps(summary.to_dict(), indent=1))
         return

@@ -1,11 +1,12 @@
-"""Source specs on the command line (``ai2thor``, ``procthor:PATH``, ``3dfront:PATH``)."""
+"""Source specs on the command line (``ai2thor``, ``procthor:PATH``, ``3dfront:PATH``,
+``scenes:DIR``)."""
 
 from __future__ import annotations
 
 from pair2scene.data.base import SPLITS, Corpus
 from pair2scene.errors import UserError
 
-SOURCE_FORMS = "ai2thor, procthor:PATH or 3dfront:PATH"
+SOURCE_FORMS = "ai2thor, procthor:PATH, 3dfront:PATH or scenes:DIR (a folder of scene.json files)"
 
 
 def load_source(spec: str, split: str | None = None, progress: bool = False) -> Corpus:
@@ -18,7 +19,7 @@ def load_source(spec: str, split: str | None = None, progress: bool = False) -> 
         from pair2scene.data.ai2thor import load_ai2thor
 
         return load_ai2thor(split=split, progress=progress)
-    if kind in ("procthor", "3dfront") and not path:
+    if kind in ("procthor", "3dfront", "scenes") and not path:
         raise UserError(f"source {kind!r} needs a path: {kind}:PATH")
     if kind == "procthor":
         from pair2scene.data.procthor import load_procthor
@@ -28,4 +29,8 @@ def load_source(spec: str, split: str | None = None, progress: bool = False) -> 
         from pair2scene.data.front3d import load_front3d
 
         return load_front3d(path, split=split, progress=progress)
+    if kind == "scenes":
+        from pair2scene.data.scene_folder import load_scene_dir
+
+        return load_scene_dir(path, split=split, progress=progress)
     raise UserError(f"unknown source {spec!r}: use {SOURCE_FORMS}")
