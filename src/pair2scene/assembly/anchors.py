@@ -132,6 +132,14 @@ class _PairRules:
         """The pair's rule, or None when it has none."""
         return self.pairs.get(dependent, {}).get(anchor)
 
+    def _drawn(self, dependent: str, anchor: str, seed: int, salt: int, k: int):
+        """The pair's rule and ``k`` uniform draws seeded by the object (``seed``: its
+        asset seed) and ``salt``; None when the pair has no rule."""
+        rule = self.rule(dependent, anchor)
+        if rule is None:
+            return None
+        return rule, np.random.default_rng([seed, salt]).random(k)
+
 
 @dataclass
 class AnchorRules(_PairRules):
@@ -149,10 +157,10 @@ class AnchorRules(_PairRules):
     ) -> AnchorCheck | None:
         """The test for one object (``seed``: its asset seed) at an anchor of category
         ``anchor`` standing at ``anchor_box``; None when the pair has no rule."""
-        rule = self.rule(dependent, anchor)
-        if rule is None:
+        drawn = self._drawn(dependent, anchor, seed, _SALT, 2)
+        if drawn is None:
             return None
-        u = np.random.default_rng([seed, _SALT]).random(2)
+        rule, u = drawn
         return AnchorCheck(anchor_box, rule.max_gap, bool(u[0] < rule.facing),
                            bool(u[1] < rule.faced), rule.gap_mean > ACROSS_M)  # fmt: skip
 
@@ -252,12 +260,11 @@ class SpotRules(_PairRules):
     ) -> SpotCheck | None:
         """The test for one object (``seed``: its asset seed) on a support of category
         ``support`` standing at ``support_box``; None when the pair has no rule."""
-        rule = self.rule(dependent, support)
-        if rule is None:
+        drawn = self._drawn(dependent, support, seed, _SALT + 1, 1)
+        if drawn is None:
             return None
-        must = rule.aligned >= ALIGNED_MIN
-        if must:
-            must = bool(np.random.default_rng([seed, _SALT + 1]).random() < rule.aligned)
+        rule, u = drawn
+        must = rule.aligned >= ALIGNED_MIN and bool(u[0] < rule.aligned)
         return SpotCheck(support_box, must, rule.window("u"), rule.window("v"))
 
 
