@@ -157,6 +157,18 @@ def test_cli_prints_json(cli, pairs_dir, tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["nll"] == score(plain, pairs_dir, "val").nll != want
 
 
+def test_cli_fits_the_baseline_on_another_folder(cli, pairs_dir, tmp_path, capsys):
+    """--fit-on: the Gaussian of one 3D-Pairs folder's train split scores another's val."""
+    other = write_synthetic_pairs(tmp_path / "other", scenes=16, seed=7)
+    args = ["score", "--model", "gaussian", "--data", str(pairs_dir), "--json"]
+    assert cli([*args, "--fit-on", str(other)]) == 0
+    got = json.loads(capsys.readouterr().out)["nll"]
+    assert got == score(GaussianBaseline.fit(load_pairs(other)), pairs_dir, "val").nll
+    assert got != score(GaussianBaseline.fit(load_pairs(pairs_dir)), pairs_dir, "val").nll
+    learned = ["score", "--data", str(pairs_dir), "--fit-on", str(other)]
+    assert cli(learned) == 2 and "--fit-on needs --model gaussian" in capsys.readouterr().err
+
+
 def test_cli_user_errors(cli, tmp_path, pairs_dir, capsys):
     for args in (
         ["score", "--model", "gaussian", "--data", str(tmp_path / "nowhere")],

@@ -21,8 +21,8 @@ def score_command(
     model: Annotated[
         str,
         typer.Option(
-            help="gaussian (the baseline, fitted on the train split of --data), default "
-            "(the learned model), or a path: a saved baseline JSON or a checkpoint."
+            help="gaussian (the baseline, fitted on the train split of --data or --fit-on), "
+            "default (the learned model), or a path: a saved baseline JSON or a checkpoint."
         ),
     ] = "default",
     split: Annotated[str, typer.Option(help="Split to score: val or train.")] = "val",
@@ -40,6 +40,13 @@ def score_command(
         Path | None,
         typer.Option(help="With --model gaussian: also write the fitted baseline as JSON here."),
     ] = None,
+    fit_on: Annotated[
+        Path | None,
+        typer.Option(
+            help="With --model gaussian: fit it on the train split of this 3D-Pairs folder "
+            "instead of --data's (score your data with a baseline of another)."
+        ),
+    ] = None,
 ) -> None:
     """Score a layout model: mean negative log-likelihood (nats per tuple) of each tuple's
     box in its support anchor's canonical frame, exactly as 3D-Pairs stores it (centre,
@@ -54,11 +61,13 @@ def score_command(
     from pair2scene.model.baseline import GaussianBaseline, GaussianConfig
     from pair2scene.model.scoring import load_model, score
 
-    if save_baseline is not None and model != "gaussian":
-        raise UserError("--save-baseline needs --model gaussian")
+    for flag, value in (("--save-baseline", save_baseline), ("--fit-on", fit_on)):
+        if value is not None and model != "gaussian":
+            raise UserError(f"{flag} needs --model gaussian")
     pairs = load_pairs(data)
+    fit = pairs if fit_on is None else load_pairs(fit_on)
     scorer = load_model(
-        model, pairs, baseline_config=GaussianConfig(seed=seed, anchor_frames=anchor_frames)
+        model, fit, baseline_config=GaussianConfig(seed=seed, anchor_frames=anchor_frames)
     )
     if save_baseline is not None:
         assert isinstance(scorer, GaussianBaseline)
