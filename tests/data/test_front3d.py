@@ -418,3 +418,29 @@ def test_corrupted_houses_load_or_raise_user_error(tmp_path, seed):
             for scene in corpus.scenes:
                 assert all(is_rotation(o.box.rotation) for o in scene.objects)
                 assert np.all(np.isfinite(scene.room.floor_polygon))
+
+
+def test_the_toolbox_model_info_mapping_reads_as_3d_futures_list(tmp_path, corpus):
+    """The 3D-FRONT toolbox's model_info (model id -> category name) gives the same
+    categories as 3D-FUTURE's list of entries; a mapping to anything else is one line."""
+    entries = json.loads((FIXTURE / "model_info.json").read_text())
+    mapping = {e["model_id"]: e["category"] for e in entries}
+    for name in HOUSE_FILES:
+        shutil.copy(FIXTURE / name, tmp_path)
+    (tmp_path / "model_info.json").write_text(json.dumps(mapping))
+    toolbox = load_front3d(tmp_path)
+    assert front3d.W_NO_MODEL_INFO not in toolbox.report.warnings
+
+    def categories(c):
+        return [o.category for s in sorted(c.scenes, key=lambda s: s.id) for o in s.objects]
+
+    # the same objects, named alike where the mapping names their model (a null category
+    # falls back to 3D-FUTURE's super-category, which the mapping does not carry)
+    pairs = list(zip(categories(toolbox), categories(corpus), strict=True))
+    differ = [(a, b) for a, b in pairs if a != b]
+    nulls = sum(e["category"] is None for e in entries)
+    assert len(differ) <= nulls and all(a == "unknown" for a, _ in differ)
+    assert len(pairs) - len(differ) > 20
+    (tmp_path / "model_info.json").write_text(json.dumps({"fx-0001": 3}))
+    with pytest.raises(UserError, match="'fx-0001' maps to int"):
+        load_front3d(tmp_path)

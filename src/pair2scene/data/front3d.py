@@ -383,10 +383,27 @@ def find_model_info(path: Path) -> Path | None:
 
 
 def load_model_info(file: Path) -> dict[str, dict]:
-    """3D-FUTURE ``model_info.json`` -> {model_id: entry}."""
+    """``model_info.json`` -> {model_id: entry}: 3D-FUTURE's list of entries (each with
+    its ``model_id``), or the 3D-FRONT toolbox's mapping of model ids to a category name
+    (or to an entry)."""
     data = _read_json(file, "3D-FUTURE model_info.json")
+    if isinstance(data, dict):
+        out: dict[str, dict] = {}
+        for model_id, value in data.items():
+            if value is None or isinstance(value, str):  # (null: no category known)
+                value = {"category": value}
+            if not isinstance(value, dict):
+                raise UserError(
+                    f"{file}: not valid model_info.json: model {model_id!r} maps to "
+                    f"{type(value).__name__}, expected a category name or an object"
+                )
+            out[str(model_id)] = {**value, "model_id": str(model_id)}
+        return out
     if not isinstance(data, list) or not all(isinstance(e, dict) for e in data):
-        raise UserError(f"{file}: not valid 3D-FUTURE model_info.json: expected a list of objects")
+        raise UserError(
+            f"{file}: not valid 3D-FUTURE model_info.json: expected a list of objects "
+            "(3D-FUTURE) or an object of model id -> category (3D-FRONT toolbox)"
+        )
     return {str(e["model_id"]): e for e in data if e.get("model_id") is not None}
 
 
