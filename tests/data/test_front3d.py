@@ -444,3 +444,29 @@ def test_the_toolbox_model_info_mapping_reads_as_3d_futures_list(tmp_path, corpu
     (tmp_path / "model_info.json").write_text(json.dumps({"fx-0001": 3}))
     with pytest.raises(UserError, match="'fx-0001' maps to int"):
         load_front3d(tmp_path)
+
+
+@pytest.mark.parametrize("which", ["floor", "pendant"])
+def test_a_lamp_known_only_as_lighting_is_named_by_where_it_is(tmp_path, which):
+    """3D-FUTURE's super-category "Lighting" says only "a lamp": on the floor it is a floor
+    lamp, hanging a ceiling lamp (it had been a ceiling lamp wherever it stood)."""
+    house = json.loads((FIXTURE / "fx-house-b.json").read_text())
+    info = json.loads((FIXTURE / "model_info.json").read_text())
+    if which == "floor":  # the library's floor lamp, its own label gone
+        entry = next(f for f in house["furniture"] if f.get("category") == "Floor Lamp")
+        entry["category"] = "Lighting"
+    (tmp_path / "fx-house-b.json").write_text(json.dumps(house))
+    shutil.copy(FIXTURE / "fx-house-a.json", tmp_path)
+    for e in info:
+        if e["category"] == "Pendant Lamp":
+            e["category"] = None  # the bedroom's pendant: only its super-category left
+    (tmp_path / "model_info.json").write_text(json.dumps(info))
+    scenes = {s.id: s.by_id() for s in load_front3d(tmp_path).scenes}
+    assert scenes["fx-house-a/MasterBedroom-101"]["ceiling_lamp_0"].source_label == "Lighting"
+    library = scenes["fx-house-b/Library-7"] if which == "floor" else None
+    if library is not None:
+        assert library["floor_lamp_0"].source_label == "Lighting"
+        assert "ceiling_lamp_0" not in library
+    assert front3d.lamp_by_height(0.0) == "floor_lamp"
+    assert front3d.lamp_by_height(0.8) == "table_lamp"
+    assert front3d.lamp_by_height(2.2) == "ceiling_lamp"

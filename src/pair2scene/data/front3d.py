@@ -469,6 +469,24 @@ def _parse_mesh(entry: dict) -> _Mesh | None:
     return _Mesh(str(entry.get("uid")), str(entry.get("type", "")), points, faces)
 
 
+GENERIC_LAMPS = ("lighting",)
+"""Labels that say only "a lamp" (3D-FUTURE's super-category): which lamp it is follows
+from where it is (:func:`lamp_by_height`)."""
+FLOOR_LAMP_MAX_M = 0.15
+"""A lamp whose bottom is this close to the floor stands on it: a floor lamp..."""
+CEILING_LAMP_MIN_M = 1.6
+"""... one whose bottom is this high hangs from the ceiling; between, it stands on
+furniture: a table lamp."""
+
+
+def lamp_by_height(bottom: float) -> str:
+    """The lamp category of a generic lamp whose box bottom is at ``bottom`` (m above the
+    floor)."""
+    if bottom < FLOOR_LAMP_MAX_M:
+        return "floor_lamp"
+    return "ceiling_lamp" if bottom >= CEILING_LAMP_MIN_M else "table_lamp"
+
+
 def _choose_label(candidates: Iterable[Any], probe: LabelMapper) -> str | None:
     """The first candidate the 3D-FUTURE table maps, else the first non-empty one."""
     present = [c.strip() for c in candidates if isinstance(c, str) and c.strip()]
@@ -681,6 +699,8 @@ def _room_objects(
             ctx.probe,
         )
         category = ctx.mapper(label)
+        if label is not None and label.lower() in GENERIC_LAMPS:
+            category = lamp_by_height(box.bottom - float(shift[2]))  # above the floor
         objects.append(
             SceneObject(
                 id=f"{category}_{per_category[category]}",
