@@ -470,3 +470,17 @@ def test_a_lamp_known_only_as_lighting_is_named_by_where_it_is(tmp_path, which):
     assert front3d.lamp_by_height(0.0) == "floor_lamp"
     assert front3d.lamp_by_height(0.8) == "table_lamp"
     assert front3d.lamp_by_height(2.2) == "ceiling_lamp"
+
+
+def test_a_room_whose_objects_stand_outside_its_floor_is_warned_of(tmp_path, corpus):
+    assert front3d.W_OUTSIDE_FLOOR not in corpus.report.warnings
+    house = json.loads((FIXTURE / "fx-house-a.json").read_text())
+    room = house["scene"]["room"][0]
+    for child in room["children"]:  # 40 m east of the room, floor left where it was
+        if isinstance(child.get("pos"), list):
+            child["pos"][0] += 40.0
+    (tmp_path / "fx-house-a.json").write_text(json.dumps(house))
+    shutil.copy(FIXTURE / "model_info.json", tmp_path)
+    moved = load_front3d(tmp_path)
+    assert moved.report.warnings[front3d.W_OUTSIDE_FLOOR] == 1
+    assert len(moved.scenes) == len([s for s in corpus.scenes if s.id.startswith("fx-house-a")])

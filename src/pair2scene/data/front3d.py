@@ -96,6 +96,10 @@ W_BAD_MESH = "malformed mesh (ignored)"
 W_NO_FURNITURE = "room without furniture (skipped)"
 W_NO_FLOOR = "no floor mesh (floor from furniture bounds)"
 W_BAD_FLOOR = "floor mesh without an outline (floor from furniture bounds)"
+W_OUTSIDE_FLOOR = "room whose objects stand mostly outside its floor (kept as read)"
+MIN_INSIDE_SHARE = 0.5
+"""A room with fewer of its objects' centres on its floor outline than this share is
+warned of (:data:`W_OUTSIDE_FLOOR`): its furniture and floor do not belong together."""
 W_BAD_OPENING = "degenerate door/window mesh (ignored)"
 W_DUPLICATE_ROOM = "duplicate room instanceid (renamed)"
 W_NO_ROOM_ID = "room without instanceid (named by index)"
@@ -616,6 +620,10 @@ def _room_scene(
         warnings[W_NO_FLOOR] += 1
     if polygon is None:
         polygon = _furniture_bounds(objects)
+    else:
+        centers = np.array([o.box.center[:2] for o in objects])
+        if points_in_polygon(centers, polygon).mean() < MIN_INSIDE_SHARE:
+            warnings[W_OUTSIDE_FLOOR] += 1
 
     walls = [m for m in room_meshes if m.type.lower() == "wallinner"]
     height = max((float(m.points[:, 2].max()) - floor_z for m in walls), default=0.0)
