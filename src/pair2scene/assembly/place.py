@@ -173,13 +173,12 @@ class AssemblyConfig:
     """Keep an object on a support where and how the training rooms' did, per dependent
     and support category (:class:`~pair2scene.assembly.anchors.SpotRules`): facing the
     support's way as often as they did where they nearly always did (a television on its
-    stand), and no farther from their usual spot on it (a television centred on its stand,
-    pillows at a bed's head); candidates that do not are rejected (``turned``,
-    ``off_spot``). When every candidate is rejected and some only as ``off_spot``, the
-    first of those (up to :data:`SPOT_RETRIES`) are moved onto the nearest point of the
-    spot and tried again: a television wider than its stand, whose draws the model
-    puts off-centre, stands centred rather than nowhere. Only for a model that draws in
-    its anchors' frames, as ``anchors``."""
+    stand), and no farther from their usual spot on it (a television centred on its
+    stand); candidates that do not are rejected (``turned``, ``off_spot``). When every
+    candidate is rejected and some only as ``off_spot``, the first of those (up to
+    :data:`SPOT_RETRIES`) are moved onto the nearest point of the spot and tried again: a
+    television all of whose draws the model puts off-centre stands centred rather than
+    nowhere. Only for a model that draws in its anchors' frames, as ``anchors``."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     confine: bool = True
