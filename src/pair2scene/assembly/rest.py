@@ -24,6 +24,7 @@ import numpy as np
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
+from pair2scene.curation.stats import ON_TOP_M
 from pair2scene.scene.geometry import OrientedBox, points_in_polygon
 
 
@@ -34,9 +35,9 @@ class RestRules:
     min_corner_fraction: float = 0.75
     """Contact-footprint corners that must be over the surface, besides the centre: 3 of
     4, so an object may overhang a little (a laptop's edge past a desk) but not hang off."""
-    top_band_m: float = 0.05
-    """A surface this close to its support's top is the top (the same band as the
-    statistics' :data:`~pair2scene.curation.stats.ON_TOP_M`)."""
+    top_band_m: float = ON_TOP_M
+    """A surface this close to its support's top is the top (the statistics' band,
+    :data:`~pair2scene.curation.stats.ON_TOP_M`)."""
     max_drop_m: float = 0.5
     """A surface this far below the predicted bottom is not where the model meant the
     object to go (a shelf's bottom tier when it predicted the top): it is taken only when

@@ -104,8 +104,6 @@ ON_TOP_M = 0.05
 ALIGNED_DEG = 45.0
 """A dependent whose yaw is within this of its support's faces the support's way
 (:attr:`HierarchyStats.sup_geometry`)."""
-
-
 SUP_SUMS = 8
 """Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`."""
 
@@ -192,6 +190,14 @@ class RoomTypeStats:
         self.window_counts.update(other.window_counts)
         self.window_shapes.update(other.window_shapes)
         self.floor_shapes.update(other.floor_shapes)
+
+
+def _add_sums(table: dict[str, dict[str, list[float]]], dependent: str, anchor: str, sums) -> None:
+    """Add ``sums`` to the running sums of the (``dependent``, ``anchor``) pair in
+    ``table`` (dependent -> anchor -> sums; zeros for a new pair)."""
+    per_anchor = table.setdefault(dependent, {})
+    old = per_anchor.get(anchor, [0.0] * len(sums))
+    per_anchor[anchor] = [a + b for a, b in zip(old, sums)]
 
 
 def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
@@ -282,9 +288,9 @@ class HierarchyStats:
                 continue
             self.sup_dep.setdefault(anchor, Counter())[o.category] += 1
             holder = by_id.get(o.support)
-            if holder is not None and self.on_top is not None:
-                self.on_top[anchor] += int(o.box.bottom >= holder.box.top - ON_TOP_M)
             if holder is not None:
+                if self.on_top is not None:
+                    self.on_top[anchor] += int(o.box.bottom >= holder.box.top - ON_TOP_M)
                 self._add_seat(o, holder)
             func = None if o.functional_anchor is None else cat_of(o.functional_anchor)
             if func is not None:
@@ -313,27 +319,21 @@ class HierarchyStats:
             anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
             if wall is not None and anchor is not None:
                 d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres
-                acc = self.wall_anchor.setdefault(o.category, {})
-                acc.setdefault(anchor.category, [0.0, 0.0, 0.0])
-                acc[anchor.category] = [a + b for a, b in zip(acc[anchor.category], (1, d, d * d))]
+                _add_sums(self.wall_anchor, o.category, anchor.category, (1.0, d, d * d))
         self.rooms += 1
 
     def _add_geometry(self, dep: SceneObject, anchor: SceneObject) -> None:
         gap = footprint_gap(footprint(dep.box), footprint(anchor.box))
-        acc = self.func_geometry.setdefault(dep.category, {})
-        old = acc.get(anchor.category, [0.0] * 5)
         new = (1.0, float(faces(dep.box, anchor.box)), float(faces(anchor.box, dep.box)), gap,
                gap * gap)  # fmt: skip
-        acc[anchor.category] = [a + b for a, b in zip(old, new)]
+        _add_sums(self.func_geometry, dep.category, anchor.category, new)
 
     def _add_seat(self, dep: SceneObject, support: SceneObject) -> None:
         local = dep.box.in_frame_of(support.box)
         u, v = (float(c) for c in local.center[:2])
         w = float(max(dep.box.size[:2]) / max(max(support.box.size[:2]), 1e-6))
         new = (1.0, float(aligned(local.yaw)), u, u * u, v, v * v, w, w * w)
-        acc = self.sup_geometry.setdefault(dep.category, {})
-        old = acc.get(support.category, [0.0] * SUP_SUMS)
-        acc[support.category] = [a + b for a, b in zip(old, new)]
+        _add_sums(self.sup_geometry, dep.category, support.category, new)
 
     def _add_present(self, placed: list[SceneObject], cat_of) -> None:
         by_support: dict[str, list[SceneObject]] = {}
@@ -370,10 +370,8 @@ class HierarchyStats:
                                 (out.func_geometry, p.func_geometry),
                                 (out.sup_geometry, p.sup_geometry)):  # fmt: skip
                 for dep, per_anchor in theirs.items():
-                    dst = own.setdefault(dep, {})
                     for anchor, acc in per_anchor.items():
-                        old = dst.get(anchor, [0.0] * len(acc))
-                        dst[anchor] = [a + b for a, b in zip(old, acc)]
+                        _add_sums(own, dep, anchor, acc)
             for sup, per_anchor in p.func_present.items():
                 dst = out.func_present.setdefault(sup, {})
                 for anchor, deps in per_anchor.items():
