@@ -228,8 +228,8 @@ class Pair2Scene:
                             and on_wall(hierarchy.support[n.id]))  # fmt: skip
             room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]),
                                  self.rooms, furniture,
-                                 self.stats.room_type(hierarchy.room_type),
-                                 dressings)  # fmt: skip
+                                 self.stats.room_type(hierarchy.room_type), dressings,
+                                 dressings if text is not None and dressings else None)  # fmt: skip
         else:
             room_obj = partial.room
             kept_assets = keep.assets

@@ -7,7 +7,9 @@ import pytest
 
 from pair2scene.assembly.mounting import (
     MOUNT_GAP_M,
+    SILL_COVER_M,
     dress_window,
+    fitted_dressing,
     hang,
     mount,
     mount_blocked,
@@ -65,6 +67,33 @@ def test_curtains_hang_centred_on_the_window_from_above_it():
     assert dress_window(WINDOW, WALLS[0], np.array([1.4, 0.1, 2.0]), 2.6, 0.05) is None
 
 
+def test_curtains_are_cut_above_furniture_under_the_window_and_clear_of_a_door():
+    full = dress_window(WINDOW, WALLS[2], np.array([1.4, 0.1, 2.0]), 2.6, 0.05)
+    assert fitted_dressing(WINDOW, WALLS[2], full, ROOM, []) is None  # nothing to cut
+    sofa = OrientedBox.from_yaw([2.3, 4.55, 0.4], [2.0, 0.9, 0.8], np.pi)  # under the sill
+    cut = fitted_dressing(WINDOW, WALLS[2], full, ROOM, [sofa])
+    assert cut.bottom == pytest.approx(0.8 + 2 * MOUNT_GAP_M) and cut.top == pytest.approx(full.top)
+    assert cut.size[0] == pytest.approx(1.4) and cut.center[0] == pytest.approx(2.0)
+    assert _gap_to(cut, WALLS[2]) == pytest.approx(MOUNT_GAP_M)
+    tall = OrientedBox.from_yaw([2.3, 4.7, 0.55], [1.0, 0.6, 0.9 + SILL_COVER_M + 0.05], 0.0)
+    assert fitted_dressing(WINDOW, WALLS[2], full, ROOM, [tall]) is None  # would bare it
+    away = OrientedBox.from_yaw([2.0, 3.5, 0.5], [1.0, 0.6, 1.0], 0.0)  # not against it
+    assert fitted_dressing(WINDOW, WALLS[2], full, ROOM, [away]) is None
+    # a window 0.3 m beside the door: the curtains end 5 cm short of its frame
+    near = Opening("window", (2.2, 0.0), (3.2, 0.0), 0.9, 2.0)
+    room = Room("bedroom", SQUARE, 2.6, (DOOR,), (near,))
+    wide = dress_window(near, WALLS[0], np.array([1.8, 0.1, 2.0]), 2.6, 0.05)
+    assert mount_blocked(wide, WALLS[0], room, True, []) == "door"
+    cut = fitted_dressing(near, WALLS[0], wide, room, [])
+    assert mount_blocked(cut, WALLS[0], room, True, []) is None
+    assert cut.corners()[:, 0].min() == pytest.approx(1.95, abs=1e-3)
+    assert cut.corners()[:, 0].max() == pytest.approx(wide.corners()[:, 0].max())
+    door_side = Opening("window", (1.92, 0.0), (2.5, 0.0), 0.9, 2.0)  # at the frame itself
+    squeezed = dress_window(door_side, WALLS[0], np.array([1.8, 0.1, 2.0]), 2.6, 0.05)
+    room = Room("bedroom", SQUARE, 2.6, (DOOR,), (door_side,))
+    assert fitted_dressing(door_side, WALLS[0], squeezed, room, []) is None
+
+
 def test_mount_order_tries_the_anchors_wall_then_the_wall_it_faces():
     rng = np.random.default_rng(0)
     bed = OrientedBox.from_yaw([3.0, 2.5, 0.5], [1.6, 2.0, 1.0], np.pi / 2)  # back on wall 1
@@ -103,3 +132,45 @@ def test_placement_hangs_every_wall_object_on_a_named_wall_clear_of_door_and_win
     curtains = [o for o in mounted if o.category == "curtains"]
     for c in curtains:  # at the window
         assert c.support == "wall:2" and c.box.center[0] == pytest.approx(2.0)
+
+
+def test_curtains_hang_before_the_furniture_that_would_block_their_window():
+    from pair2scene.assembly.place import placement_order
+    from pair2scene.assets.registry import generate
+    from pair2scene.hierarchy.tree import Hierarchy
+
+    h = Hierarchy("living_room")
+    sofa = h.add("sofa", "floor")
+    h.add("painting", "wall", sofa.id)
+    h.add("curtains", "wall")
+    h.add("vase", sofa.id)
+    sizes = {"sofa": [2.0, 0.9, 0.8], "painting": [1, 0.05, 0.7], "curtains": [1.4, 0.1, 2]}
+    assets = {n.id: generate(n.category, np.array(sizes.get(n.category, [0.2] * 3)), 0)
+              for n in h.nodes}  # fmt: skip
+    order = [i.dependent.category for i in placement_order(h.validate(), assets)]
+    assert order[0] == "curtains" and order.index("sofa") < order.index("painting")
+
+
+def test_the_living_room_example_dresses_every_window():
+    """Issue 19's text example, as a user runs it: a sofa, the painting above it on the
+    wall behind it, and curtains at every window of the room, seeds 0-9."""
+    from pair2scene.generate import Pair2Scene
+    from pair2scene.scene.walls import wall_contact
+
+    gen = Pair2Scene.from_pretrained()
+    text = "a living room with a sofa, a painting above the sofa and curtains on the windows"
+    for seed in range(10):
+        scene = gen.generate(text=text, seed=seed, llm="never").scene
+        by = {o.id: o for o in scene.objects}
+        assert len(scene.room.windows) == 2
+        curtains = [o for o in scene.objects if o.category == "curtains"]
+        assert len(curtains) == 2, (seed, scene.stats)
+        walls = walls_of(scene.room.floor_polygon)
+        for c in curtains:
+            wall = walls[wall_index(c.support)]
+            assert any(wall.span(w.p0, w.p1) is not None for w in scene.room.windows)
+        (painting,) = [o for o in scene.objects if o.category == "painting"]
+        assert painting.functional_anchor == "sofa_0"
+        contact = wall_contact(by["sofa_0"].box, walls)
+        if contact is not None:  # the sofa's back to a wall: the painting hangs on it
+            assert wall_index(painting.support) == contact.wall

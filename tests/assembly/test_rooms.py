@@ -109,6 +109,27 @@ def test_windows_are_drawn_as_the_statistics_have_them():
     )
 
 
+def test_a_text_dressing_every_window_gets_exactly_that_many():
+    """``min_windows``/``max_windows``: a room for "curtains on the windows" (two) holds
+    two windows, whatever count the statistics draw; the shape and door are unchanged."""
+    from collections import Counter
+
+    from pair2scene.curation.stats import RoomTypeStats
+
+    rs = RoomTypeStats()
+    rs.window_counts = Counter({0: 1, 1: 1, 3: 2})
+    rs.window_shapes = Counter({(1.0, 0.9, 2.1): 1})
+    drawn = set()
+    for seed in range(40):
+        free = make_room("living_room", np.random.default_rng(seed), stats=rs)
+        exact = make_room("living_room", np.random.default_rng(seed), stats=rs,
+                          min_windows=2, max_windows=2)  # fmt: skip
+        drawn.add(len(free.windows))
+        assert len(exact.windows) == 2 and exact.doors == free.doors
+        assert np.allclose(exact.floor_polygon, free.floor_polygon)
+    assert drawn == {0, 1, 3}
+
+
 L_SHAPE = (2.6, 0.0, 0.0, 5.0, 0.0, 5.0, 2.0, 2.0, 2.0, 2.0, 4.0, 0.0, 4.0)
 """(height, x0, y0, ...): an L-shaped room, 5 x 4 m less a 3 x 2 m corner (14 m2)."""
 

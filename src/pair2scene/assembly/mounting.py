@@ -14,7 +14,10 @@ mounted objects are tested like any candidate's.
 
 Curtains and blinds (:data:`WINDOW_DRESSINGS`) hang at a window: the model knows no
 windows, so they are placed by rule, centred on a window nobody dressed yet, hanging from
-:data:`DRESSING_ABOVE_M` above its top (:func:`dress_window`).
+:data:`DRESSING_ABOVE_M` above its top (:func:`dress_window`). Where furniture stands
+below the window or a door is close beside it, they are cut to what the window leaves
+them (:func:`fitted_dressing`): ending above the sofa under the window, as sill-length
+curtains do, and clear of the door's frame.
 """
 
 from __future__ import annotations
@@ -36,6 +39,11 @@ DOOR_MARGIN_M = 0.05
 DRESSING_ABOVE_M = 0.12
 """Curtains and blinds hang from this far above their window's top (a rod, a cassette);
 under the ceiling."""
+SILL_COVER_M = 0.15
+"""Curtains and blinds cut short above furniture still reach this close to their window's
+sill: they cover the window (a sideboard taller than that leaves it undressed)."""
+DRESSING_MIN_WIDTH_M = 0.3
+"""Narrower than this, curtains cut to clear a door are not hung."""
 BEHIND_DEPTH_M = AGAINST_GAP_M + 0.15
 """A floor object whose back is this close to a wall stands against it: a mounted object
 reaching below its top there would be hidden behind it."""
@@ -116,6 +124,46 @@ def dress_window(
     half_len = max(wall.length / 2 - size[0] / 2, 0.0)
     along = float(np.clip((span[0] + span[1]) / 2, -half_len, half_len))
     return hang(wall, along, z, size)
+
+
+def fitted_dressing(
+    window: Opening, wall: Wall, box: OrientedBox, room: Room, floor_boxes: list[OrientedBox]
+) -> OrientedBox | None:
+    """``box`` (curtains or blinds :func:`dress_window` hung at ``window``) cut to what the
+    window leaves them: its bottom above the furniture standing in front of it (at most
+    :data:`SILL_COVER_M` above the sill), its sides :data:`DOOR_MARGIN_M` clear of a door
+    beside the window (still covering the window, at least :data:`DRESSING_MIN_WIDTH_M`
+    wide).
+    None when nothing needs cutting or no cut fits."""
+    span = wall.span(window.p0, window.p1)
+    if span is None:
+        return None
+    size = np.asarray(box.size, float)
+    top = float(box.top)
+    along = float(wall.local(box.center[:2])[0])
+    lo, hi = along - size[0] / 2, along + size[0] / 2
+    for a, b, _, z_max, _ in wall_openings(wall, room.doors):
+        if box.bottom >= z_max + DOOR_MARGIN_M:
+            continue
+        if b + DOOR_MARGIN_M > lo and b <= span[0]:  # a door to the left of the window
+            lo = b + DOOR_MARGIN_M + 1e-4
+        if a - DOOR_MARGIN_M < hi and a >= span[1]:  # and to its right
+            hi = a - DOOR_MARGIN_M - 1e-4
+    if lo > span[0] + 1e-9 or hi < span[1] - 1e-9 or hi - lo < DRESSING_MIN_WIDTH_M:
+        return None  # a door at the window's very edge: it cannot be covered
+    bottom = float(box.bottom)
+    depth = size[1] + 2 * MOUNT_GAP_M
+    for f in floor_boxes:
+        fc = wall.local(f.corners()[:, :2])
+        if fc[:, 1].min() >= depth or fc[:, 0].max() <= lo or fc[:, 0].min() >= hi:
+            continue
+        bottom = max(bottom, float(f.top) + 2 * MOUNT_GAP_M)
+    if bottom > float(window.z_min) + SILL_COVER_M:
+        return None
+    if bottom <= box.bottom + 1e-9 and hi - lo >= size[0] - 1e-9:
+        return None  # the full dressing: nothing to cut
+    cut = np.array([hi - lo, size[1], top - bottom])
+    return hang(wall, (lo + hi) / 2, (top + bottom) / 2, cut)
 
 
 def mount_blocked(

@@ -50,6 +50,7 @@ from pair2scene.assembly.collision import (
 )
 from pair2scene.assembly.mounting import (
     dress_window,
+    fitted_dressing,
     mount,
     mount_blocked,
     mount_order,
@@ -442,6 +443,7 @@ class Placer:
         when None)."""
         import torch
 
+        from pair2scene.assets.registry import generate
         from pair2scene.model.api import Anchor, PlacementQuery
 
         cfg = self.config
@@ -562,6 +564,13 @@ class Placer:
                 t0 = time.perf_counter()
                 if dressing is not None:  # curtains at a window: by rule
                     boxes, mass = [dressing.box.to_vector()], None
+                    want = assets[node.id]
+                    if not np.allclose(dressing.box.size, want.size):  # cut to the window
+                        want = generate(node.category, dressing.box.size,
+                                        want.extra.get("seed", 0))  # fmt: skip
+                    if want is not asset:
+                        asset, shape = want, Shape(want)
+                        context.shape = shape
                 else:
                     boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
                 if k == 0 and region is not None and mass is not None:
@@ -671,6 +680,7 @@ class Placer:
         walls = walls_of(room.floor_polygon)
         rng = np.random.default_rng([asset_seed(node.id, seed), 191])
         if node.category in WINDOW_DRESSINGS:
+            floor = [p.box for p in placed.values() if p.box.bottom < FLOOR_BOX_BOTTOM_M]
             out = []
             for i, window in enumerate(room.windows):
                 if i in dressed:
@@ -680,8 +690,12 @@ class Placer:
                         continue
                     box = dress_window(window, wall, query.size, room.height,
                                        self.config.ceiling_margin_m)  # fmt: skip
-                    if box is not None:
-                        out.append((None, _Dressing(wall, i, box)))
+                    if box is None:
+                        continue
+                    out.append((None, _Dressing(wall, i, box)))
+                    cut = fitted_dressing(window, wall, box, room, floor)
+                    if cut is not None:  # furniture under the window, a door beside it
+                        out.append((None, _Dressing(wall, i, cut)))
             return out
         anchor = None if query.functional is None else query.functional.box
         order = mount_order(walls, rng, anchor, wall_index(support))
@@ -739,7 +753,8 @@ class Placer:
             return None, "too_large", False
         if not cfg.reject:
             return hung, None, False
-        floor = [ctx.placed[i].box for i in ctx.ids if ctx.placed[i].box.bottom < 0.05]
+        floor = [ctx.placed[i].box for i in ctx.ids
+                 if ctx.placed[i].box.bottom < FLOOR_BOX_BOTTOM_M]  # fmt: skip
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
         if reason is None:
             reason, _ = self._blocked(hung, ctx)
@@ -883,6 +898,9 @@ class _Dressing:
     box: OrientedBox
 
 
+FLOOR_BOX_BOTTOM_M = 0.05
+"""An object whose bottom is this low stands on the floor (what a mounted object may hang
+behind or above)."""
 FIT_MARGIN = 0.9
 """Share of a surface's extent a dependent's footprint may take when the data says no
 more (:func:`surface_fit`)."""
@@ -930,7 +948,9 @@ def no_room_on(asset: Asset, support: Asset) -> str | None:
 def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
     """The hierarchy's sequence with each support's dependents placed largest footprint
     first (the packing order that leaves room for the small ones), anchors still before
-    their dependents: a topological order by (the support's turn, -footprint, sequence)."""
+    their dependents: a topological order by (the support's turn, -footprint, sequence).
+    Curtains and blinds hang first of all: they go where the windows are, and the
+    furniture then stands around them rather than in front of the window they need."""
     import heapq
 
     sequence = hierarchy.sequence()
@@ -949,7 +969,8 @@ def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
     def key(i: int) -> tuple:
         item = sequence[i]
         size = assets[item.dependent.id].size
-        return (turn[item.support], -float(size[0] * size[1]), i)
+        first = item.dependent.category in WINDOW_DRESSINGS and on_wall(item.support)
+        return (-1 if first else turn[item.support], -float(size[0] * size[1]), i)
 
     heap = [key(i) for i in range(len(sequence)) if blockers[i] == 0]
     heapq.heapify(heap)

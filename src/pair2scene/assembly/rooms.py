@@ -128,6 +128,7 @@ def make_room(
     furniture_m2: float = 0.0,
     stats: RoomTypeStats | None = None,
     min_windows: int = 0,
+    max_windows: int | None = None,
 ) -> Room:
     """A room of a training room's shape and height (:func:`draw_floor`; a rectangle of
     ``table``'s sizes when ``stats`` has no shapes), with room for ``furniture_m2`` of
@@ -135,7 +136,9 @@ def make_room(
     enough for it and the windows of :func:`draw_windows` (none without ``stats``); the
     floor's bounds start at the origin. The windows are drawn after the rest, so a room's
     shape and door do not depend on them; ``min_windows``: at least that many (one for
-    each curtains or blinds the room is to hold), as far as its walls have room."""
+    each curtains or blinds the room is to hold), as far as its walls have room;
+    ``max_windows``: at most that many (a text's "curtains on the windows": no window
+    left bare)."""
     min_area = furniture_m2 / MAX_FLOOR_SHARE
     if stats is not None and stats.floor_shapes:
         polygon, h = draw_floor(stats.floor_shapes, rng, min_area)
@@ -161,7 +164,7 @@ def make_room(
     windows = ()
     if stats is not None:
         windows = draw_windows(polygon, float(h), doors, stats.window_counts,
-                               stats.window_shapes, rng, min_windows)  # fmt: skip
+                               stats.window_shapes, rng, min_windows, max_windows)  # fmt: skip
     return Room(room_type, polygon, float(h), doors, windows)
 
 
@@ -196,13 +199,14 @@ def draw_windows(
     shapes: Counter[tuple[float, float, float]],
     rng: np.random.Generator,
     at_least: int = 0,
+    at_most: int | None = None,
 ) -> tuple[Opening, ...]:
     """Windows for a room: their number drawn from ``counts`` (windows a room -> rooms),
     each one's (width, sill, top) from ``shapes``, on a wall with a free stretch that wide
     (:data:`WINDOW_CORNER_GAP_M` from the corners, :data:`WINDOW_GAP_M` from doors and the
     other windows), the wall weighted by its free length and the window uniform along
-    the stretch; at least ``at_least`` of them. A window with no wall left for it is not
-    placed."""
+    the stretch; at least ``at_least`` of them and at most ``at_most``. A window with no
+    wall left for it is not placed."""
     if not counts or not shapes:
         return ()
     walls = walls_of(np.asarray(polygon, float))
@@ -213,7 +217,8 @@ def draw_windows(
             if span is not None:
                 taken[i].append(span)
     out: list[Opening] = []
-    for k in range(max(int(draw_counted(counts, rng)), at_least)):
+    n = max(int(draw_counted(counts, rng)), at_least)
+    for k in range(n if at_most is None else min(n, at_most)):
         width, sill, top = draw_counted(shapes, rng)
         if top > height - CEILING_GAP_M:  # a taller room's window: moved down
             sill, top = max(sill - (top - (height - CEILING_GAP_M)), 0.0), height - CEILING_GAP_M
