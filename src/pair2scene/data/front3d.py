@@ -17,15 +17,32 @@ architecture.md's frames is done here, once:
 
 Both mappings are proper rotations, so a box keeps determinant +1. The world is
 shifted so that the room's floor mesh lies at z = 0.
+
+What real house files hold, and how it is read:
+
+- Extents. A furniture entry's ``size`` is mostly [width, depth, height] (z up) but not
+  always; an entry with only a ``bbox`` has it in the model's own y-up axes. ``size``
+  is read z-up unless the y-up reading fits the category's typical shape clearly better
+  (:func:`size_axes`); when 3D-FUTURE's model folder is at hand, the model's own mesh
+  extent wins (:func:`read_obj_extent`) and a file extent that disagrees is counted.
+- Floors. A room's floor comes in pieces that overlap, repeat and meet in T-junctions,
+  with zero-area slivers among them: the outline is their union's outer ring
+  (:func:`floor_outline`).
+- Doors and windows. Each is several meshes (frame, leaf, threshold, sill; a bay
+  window two dozen), and a door between two rooms is listed under one of them: the
+  pieces of one opening are joined, laid on the wall they run along, and kept with
+  their full height; a flat piece on its own (a sill) is no opening (:func:`openings_of`).
+- Lamps. 3D-FUTURE's "Lighting" says only "a lamp": which one follows from its height
+  (:func:`lamp_by_height`).
 """
 
 from __future__ import annotations
 
 import json
 import math
-from collections import Counter, defaultdict
+from collections import Counter
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -78,6 +95,16 @@ class Front3DTolerances:
     (furniture stands against walls, plus the space to reach it)."""
     min_opening_width: float = 0.01
     """m; a door or window narrower than this is a broken mesh, not an opening."""
+    opening_join: float = 0.05
+    """m; a door or window is several meshes (frame, leaf, threshold, sill; up to two
+    dozen for a bay window): pieces of one kind whose boxes come this close are one
+    opening."""
+    min_opening_height: float = 0.3
+    """m; an opening lower than this is a threshold or sill piece on its own (flat, often
+    of zero height), not a door or window."""
+    opening_angle_deg: float = 20.0
+    """deg; an opening is laid on the floor outline's edge it runs along, within this
+    angle."""
     max_coordinate: float = 1e4
     """m; houses span tens of metres, so a coordinate, size or scale beyond 10 km is
     corrupt data (and would overflow squared distances)."""
@@ -89,6 +116,8 @@ TOL = Front3DTolerances()
 W_NO_MODEL_INFO = "model_info.json not found (categories from house files only)"
 W_MISSING_INFO = "missing model_info entry"
 W_NO_SIZE = "no size (object skipped)"
+W_SIZE_Y_UP = "size read as width, height, depth (its category's shape)"
+W_SIZE_MESH = "size field disagrees with its 3D-FUTURE mesh (mesh extent used)"
 W_BAD_TRANSFORM = "bad pos/rot/scale (object skipped)"
 W_MIRRORED = "mirrored object (negative scale)"
 W_UNKNOWN_REF = "child refers to no furniture or mesh"
@@ -101,6 +130,8 @@ MIN_INSIDE_SHARE = 0.5
 """A room with fewer of its objects' centres on its floor outline than this share is
 warned of (:data:`W_OUTSIDE_FLOOR`): its furniture and floor do not belong together."""
 W_BAD_OPENING = "degenerate door/window mesh (ignored)"
+W_FLAT_OPENING = "door/window piece without height on its own, a threshold or sill (ignored)"
+W_OFF_WALL_OPENING = "door/window along no wall of its room (kept where its mesh is)"
 W_DUPLICATE_ROOM = "duplicate room instanceid (renamed)"
 W_NO_ROOM_ID = "room without instanceid (named by index)"
 
@@ -173,88 +204,40 @@ def floor_outline(triangles: np.ndarray, tol: float = TOL.vertex_merge) -> np.nd
 
     triangles : (T, 3, 2) world xy  ->  (N, 2) float, or None when no closed outline.
 
-    Vertices closer than ``tol`` merge; an edge with another vertex on it is split
-    there (separate floor pieces meet in T-junctions); edges used by exactly one
-    triangle form the boundary, chained into loops; the loop enclosing the largest
-    area wins (holes and slivers lose). Collinear vertices are dropped and the
-    polygon starts at its lowest-x, then lowest-y vertex.
+    Real floors come in pieces: tiles that overlap or repeat (a border piece stored 3-8
+    times), pieces meeting in T-junctions, zero-area sliver triangles. Slivers (thinner
+    than ``tol``) are dropped; the rest are united on a ``tol`` grid and cracks narrower
+    than ``tol`` between pieces closed; the largest part's outer ring wins (holes and
+    detached scraps lose). Collinear vertices are dropped and the polygon starts at its
+    lowest-x, then lowest-y vertex.
     """
+    import shapely
+
     tri = np.asarray(triangles, dtype=float).reshape(-1, 3, 2)
     if len(tri) == 0:
         return None
-    flat = tri.reshape(-1, 2)  # (3T, 2)
-    keys = np.round(flat / tol).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    verts = flat[first]  # (V, 2)
-    faces = inverse.reshape(-1, 3)  # (T, 3)
-    faces = faces[
-        (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
-    ]
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])  # (3T, 2)
-    counts: Counter[tuple[int, int]] = Counter()
-    for a, b in edges.tolist():
-        for u, v in _split_edge(a, b, verts, tol):
-            counts[(min(u, v), max(u, v))] += 1
-    boundary = sorted(e for e, n in counts.items() if n == 1)
-    best, best_area = None, 0.0
-    for loop in _chain_loops(boundary):
-        poly = verts[loop]
-        area = abs(polygon_area(poly))
-        if area > best_area:
-            best, best_area = poly, area
-    if best is None:
+    e = np.roll(tri, -1, axis=1) - tri  # (T, 3, 2) edges
+    area2 = np.abs(e[:, 0, 0] * e[:, 1, 1] - e[:, 0, 1] * e[:, 1, 0])  # twice the area
+    longest = np.linalg.norm(e, axis=2).max(axis=1)
+    tri = tri[area2 > tol * np.maximum(longest, tol)]  # height over the longest side > tol
+    if len(tri) == 0:
         return None
-    best = _drop_collinear(best, tol)
-    if len(best) < 3 or abs(polygon_area(best)) < tol:
+    rings = np.concatenate([tri, tri[:, :1]], axis=1)  # (T, 4, 2) closed
+    union = shapely.union_all(shapely.polygons(rings), grid_size=tol)
+    union = union.buffer(tol, join_style="mitre").buffer(-tol, join_style="mitre")
+    parts = [g for g in getattr(union, "geoms", [union]) if g.geom_type == "Polygon"]
+    parts = [g for g in parts if not g.is_empty]
+    if not parts:
         return None
-    if polygon_area(best) < 0:
-        best = best[::-1]
-    start = int(np.lexsort((best[:, 1], best[:, 0]))[0])
-    return np.roll(best, -start, axis=0)
-
-
-def _split_edge(a: int, b: int, verts: np.ndarray, tol: float) -> list[tuple[int, int]]:
-    """Edge a-b cut at every vertex lying on it: [(a, k1), (k1, k2), ..., (kn, b)]."""
-    p, d = verts[a], verts[b] - verts[a]
-    length = float(np.hypot(*d))
-    if length <= tol:
-        return [(a, b)]
-    rel = verts - p  # (V, 2)
-    along = rel @ d / length  # (V,)
-    off = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0]) / length  # (V,)
-    on = np.flatnonzero((off < tol) & (along > tol) & (along < length - tol))
-    if len(on) == 0:
-        return [(a, b)]
-    chain = [a, *on[np.argsort(along[on])].tolist(), b]
-    return list(zip(chain[:-1], chain[1:], strict=True))
-
-
-def _chain_loops(edges: Iterable[tuple[int, int]]) -> list[list[int]]:
-    """Closed vertex loops from undirected edges; open chains are dropped."""
-    adjacency: dict[int, list[int]] = defaultdict(list)
-    unused: set[tuple[int, int]] = set()
-    for u, v in edges:
-        adjacency[u].append(v)
-        adjacency[v].append(u)
-        unused.add((min(u, v), max(u, v)))
-    for n in adjacency.values():
-        n.sort()
-    loops = []
-    while unused:
-        start, cur = min(unused)
-        unused.discard((start, cur))
-        loop: list[int] | None = [start]
-        while cur != start:
-            loop.append(cur)
-            nxt = next((n for n in adjacency[cur] if (min(cur, n), max(cur, n)) in unused), None)
-            if nxt is None:
-                loop = None
-                break
-            unused.discard((min(cur, nxt), max(cur, nxt)))
-            cur = nxt
-        if loop is not None and len(loop) >= 3:
-            loops.append(loop)
-    return loops
+    best = max(parts, key=lambda g: g.area).exterior.simplify(tol)
+    poly = np.asarray(best.coords, dtype=float)[:-1]
+    poly = _drop_collinear(poly, tol)
+    if len(poly) < 3 or abs(polygon_area(poly)) < tol:
+        return None
+    if polygon_area(poly) < 0:
+        poly = poly[::-1]
+    start = int(np.lexsort((poly[:, 1], poly[:, 0]))[0])
+    return np.roll(poly, -start, axis=0)
 
 
 def _drop_collinear(poly: np.ndarray, tol: float) -> np.ndarray:
@@ -342,6 +325,97 @@ def opening_from_points(kind: OpeningKind, points: np.ndarray, opening_id: str |
     )
 
 
+def on_outline(opening: Opening, points: np.ndarray, polygon: np.ndarray) -> Opening | None:
+    """``opening`` laid on the edge of the floor ``polygon`` that its mesh ``points``
+    (N, 3) run along: the edge within :attr:`~Front3DTolerances.opening_angle_deg` of the
+    opening's direction, overlapping it, whose line its nearest point lies closest to (a
+    door stands in the wall, its inner face on the floor's edge; a bay window bulges out
+    from it); its ends the points' extent along that edge. None when it runs along no edge within
+    :attr:`~Front3DTolerances.opening_touch`."""
+    d = np.subtract(opening.p1, opening.p0)
+    d = d / max(float(np.hypot(*d)), 1e-12)
+    cos_max = math.cos(math.radians(TOL.opening_angle_deg))
+    best, best_off = None, TOL.opening_touch
+    for a, b in zip(polygon, np.roll(polygon, -1, axis=0), strict=True):
+        u = b - a
+        length = float(np.hypot(*u))
+        if length < TOL.min_opening_width or abs(float(u @ d)) / length < cos_max:
+            continue
+        u = u / length
+        rel = points[:, :2] - a
+        along = rel @ u
+        off = float(np.abs(rel[:, 0] * u[1] - rel[:, 1] * u[0]).min())  # its inner face
+        lo, hi = max(float(along.min()), 0.0), min(float(along.max()), length)
+        if hi - lo < TOL.min_opening_width or off >= best_off:
+            continue
+        best, best_off = (a + u * lo, a + u * hi), off
+    if best is None:
+        return None
+    p0, p1 = best
+    return Opening(opening.kind, (float(p0[0]), float(p0[1])), (float(p1[0]), float(p1[1])),
+                   opening.z_min, opening.z_max, opening.id)  # fmt: skip
+
+
+def _box_gap(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray) -> float:
+    """Largest per-axis gap between two axis-aligned boxes (0 or less: they touch)."""
+    return float(np.max(np.maximum(lo_a - hi_b, lo_b - hi_a)))
+
+
+def openings_of(
+    pieces: list[tuple[OpeningKind, str, np.ndarray]],
+    polygon: np.ndarray,
+    warnings: Counter[str],
+) -> tuple[list[Opening], list[Opening]]:
+    """(doors, windows) of a room from its door and window mesh ``pieces`` (kind, uid,
+    points (N, 3) above the room's floor): the pieces that touch the floor ``polygon``
+    (:attr:`~Front3DTolerances.opening_touch`), grouped into one opening per physical
+    door or window (:attr:`~Front3DTolerances.opening_join`), each laid on its wall
+    (:func:`on_outline`) with the height of all its pieces. A group lower than
+    :attr:`~Front3DTolerances.min_opening_height` or narrower than
+    :attr:`~Front3DTolerances.min_opening_width` is counted in ``warnings`` and left out."""
+    near = [(kind, uid, points, points.min(0), points.max(0)) for kind, uid, points in pieces]
+    parent = list(range(len(near)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i, (kind_i, _, _, lo_i, hi_i) in enumerate(near):
+        for j in range(i):
+            kind_j, _, _, lo_j, hi_j = near[j]
+            if kind_i == kind_j and _box_gap(lo_i, hi_i, lo_j, hi_j) <= TOL.opening_join:
+                parent[root(i)] = root(j)
+    groups: dict[int, list[int]] = {}
+    for i in range(len(near)):
+        groups.setdefault(root(i), []).append(i)
+    doors, windows = [], []
+    for members in groups.values():
+        kind = near[members[0]][0]
+        points = np.concatenate([near[i][2] for i in members])
+        uid = min(near[i][1] for i in members)
+        lo, hi = points[:, :2].min(0), points[:, :2].max(0)
+        if rect_polygon_distance(lo, hi, polygon) > TOL.opening_touch:
+            continue  # another room's (a bay window's far panes count with the rest)
+        if float(np.ptp(points[:, 2])) < TOL.min_opening_height:
+            warnings[W_FLAT_OPENING] += 1
+            continue
+        opening = opening_from_points(kind, points, uid)
+        laid = on_outline(opening, points, polygon)
+        if laid is None:
+            warnings[W_OFF_WALL_OPENING] += 1
+        else:
+            opening = laid
+        if opening.width < TOL.min_opening_width:
+            warnings[W_BAD_OPENING] += 1
+            continue
+        (doors if kind == "door" else windows).append(opening)
+    doors.sort(key=lambda o: o.id or "")
+    windows.sort(key=lambda o: o.id or "")
+    return doors, windows
+
+
 def _opening_kind(mesh_type: str) -> OpeningKind | None:
     t = mesh_type.lower()
     if "door" in t:
@@ -383,6 +457,17 @@ def find_model_info(path: Path) -> Path | None:
     for candidate in (base / MODEL_INFO, base.parent / FUTURE_FOLDER / MODEL_INFO):
         if candidate.is_file():
             return candidate
+    return None
+
+
+def future_models(path: Path, info_file: Path | None) -> Path | None:
+    """3D-FUTURE's model folder (one ``<jid>/`` folder per model) for a house file or
+    folder: the folder of ``model_info.json``, else ``3D-FUTURE-model/`` beside the
+    houses' folder; None when neither exists."""
+    base = path if path.is_dir() else path.parent
+    for folder in (None if info_file is None else info_file.parent, base.parent / FUTURE_FOLDER):
+        if folder is not None and folder.is_dir():
+            return folder
     return None
 
 
@@ -438,8 +523,10 @@ def _sane(values: np.ndarray) -> bool:
     return bool(np.all(np.isfinite(values)) and np.all(np.abs(values) <= TOL.max_coordinate))
 
 
-def _furniture_size(entry: dict) -> np.ndarray | None:
-    """(3,) model extent from ``size`` or ``bbox`` (3 floats, or min and max corners)."""
+def _field_extent(entry: dict) -> tuple[np.ndarray, str] | None:
+    """A furniture entry's extent as its file gives it, and the field: ``size`` (3
+    floats, mostly width, depth, height: z up), else ``bbox`` (the model's own y-up
+    axes, as entries with only a ``bbox`` have it; 3 floats, or min and max corners)."""
     for key in ("size", "bbox"):
         value = entry.get(key)
         if value is None:
@@ -451,8 +538,57 @@ def _furniture_size(entry: dict) -> np.ndarray | None:
         if v.shape == (6,):
             v = v[3:] - v[:3]
         if v.shape == (3,) and _sane(v) and np.all(np.abs(v) > 0):
-            return np.abs(v)
+            return np.abs(v), key
     return None
+
+
+SIZE_AXES_MARGIN = math.log(1.25)
+"""A ``size`` is read y-up (width, height, depth) instead of z-up only when that fits its
+category's typical size better by more than this (summed log-ratio of depth and height):
+a cube-like object keeps the file's usual order."""
+
+
+def size_axes(size: np.ndarray, category: str) -> tuple[np.ndarray, bool]:
+    """(the model's extent along its own x, y (up), z (front), whether ``size`` was read
+    y-up) of a furniture entry's 3-float ``size``. The field is mostly [width, depth,
+    height] but not always; the reading whose depth and height fit ``category``'s
+    typical size (:func:`~pair2scene.assets.typical_sizes.typical_size`) wins, z-up
+    unless y-up fits clearly better (:data:`SIZE_AXES_MARGIN`)."""
+    from pair2scene.assets.typical_sizes import typical_size
+
+    w, a, b = (float(x) for x in size)
+    z_up = np.array([w, b, a])  # depth a, height b
+    typical = typical_size(category)
+    if typical.source == "default":
+        return z_up, False
+    _, td, th = typical.size
+
+    def misfit(depth: float, height: float) -> float:
+        return abs(math.log(depth / td)) + abs(math.log(height / th))
+
+    if misfit(b, a) + SIZE_AXES_MARGIN < misfit(a, b):
+        return np.array([w, a, b]), True  # height a, depth b
+    return z_up, False
+
+
+def read_obj_extent(file: Path) -> np.ndarray | None:
+    """(3,) extent of the vertices (``v`` lines) of an OBJ file; None when it has none or
+    cannot be read."""
+    try:
+        with file.open(encoding="utf-8", errors="replace") as f:
+            rows = [line.split()[1:4] for line in f if line.startswith("v ")]
+        v = np.asarray(rows, dtype=float)
+    except (OSError, ValueError):
+        return None
+    if v.ndim != 2 or v.shape[1] != 3 or not len(v) or not _sane(v):
+        return None
+    return v.max(0) - v.min(0)
+
+
+MESH_FILE = "raw_model.obj"
+"""A 3D-FUTURE model's mesh, in its own y-up axes and metres: ``<jid>/raw_model.obj``."""
+MESH_AGREE = 0.1
+"""Relative difference per axis within which a file's extent agrees with its mesh's."""
 
 
 def _parse_mesh(entry: dict) -> _Mesh | None:
@@ -510,6 +646,9 @@ class _Context:
     probe: LabelMapper
     """Same table, counters ignored: trying fallback labels must not count them."""
     report: SourceReport
+    models: Path | None = None
+    """3D-FUTURE's model folder (``<jid>/raw_model.obj``), when found."""
+    mesh_extents: dict[str, np.ndarray | None] = field(default_factory=dict)
 
 
 def _require(cond: bool, file: Path, problem: str) -> None:
@@ -558,6 +697,7 @@ def _house_scenes(data: Any, file: Path, ctx: _Context) -> list[Scene]:
     orphan_openings = [
         m for uid, m in meshes.items() if uid not in referenced and _opening_kind(m.type)
     ]
+    house_doors = [m for m in meshes.values() if _opening_kind(m.type) == "door"]
 
     scenes, seen_ids = [], Counter()
     for index, room in enumerate(rooms):
@@ -570,7 +710,8 @@ def _house_scenes(data: Any, file: Path, ctx: _Context) -> list[Scene]:
         if seen_ids[instance] > 1:
             ctx.report.warnings[W_DUPLICATE_ROOM] += 1
             instance = f"{instance}#{seen_ids[instance] - 1}"
-        scene = _room_scene(room, f"{house}/{instance}", furniture, meshes, orphan_openings, ctx)
+        scene = _room_scene(room, f"{house}/{instance}", furniture, meshes, orphan_openings,
+                            house_doors, ctx)  # fmt: skip
         if scene is not None:
             scene.stats.update({"house": house, "room_instance": instance})
             scenes.append(scene)
@@ -583,6 +724,7 @@ def _room_scene(
     furniture: dict[str, dict],
     meshes: dict[str, _Mesh],
     orphan_openings: list[_Mesh],
+    house_doors: list[_Mesh],
     ctx: _Context,
 ) -> Scene | None:
     warnings = ctx.report.warnings
@@ -630,20 +772,14 @@ def _room_scene(
     if height <= 0:
         height = DEFAULT_ROOM_HEIGHT
 
-    doors, windows = [], []
-    for mesh in room_meshes + orphan_openings:
-        kind = _opening_kind(mesh.type)
-        if kind is None:
-            continue
-        points = mesh.points - shift
-        lo, hi = points[:, :2].min(0), points[:, :2].max(0)
-        if rect_polygon_distance(lo, hi, polygon) > TOL.opening_touch:
-            continue
-        opening = opening_from_points(kind, points, mesh.uid)
-        if opening.width < TOL.min_opening_width:
-            warnings[W_BAD_OPENING] += 1
-            continue
-        (doors if kind == "door" else windows).append(opening)
+    # A door joins two rooms but is listed under one: every door of the house that
+    # touches this room opens into it. Windows: this room's and those no room lists.
+    candidates = {m.uid: m for m in room_meshes + orphan_openings if _opening_kind(m.type)}
+    candidates.update({m.uid: m for m in house_doors})
+    pieces = [
+        (_opening_kind(m.type), uid, m.points - shift) for uid, m in sorted(candidates.items())
+    ]
+    doors, windows = openings_of(pieces, polygon, warnings)  # type: ignore[arg-type]
 
     source_type = str(room.get("type") or "")
     room_type = FRONT3D_ROOM_TYPES.get(source_type.lower())
@@ -679,7 +815,16 @@ def _room_objects(
                 warnings[W_MISSING_INFO] += 1
             else:
                 info = found
-        size = _furniture_size(entry)
+        label = _choose_label(
+            (
+                info.get("category"),
+                entry.get("category"),
+                entry.get("title"),
+                info.get("super-category"),
+            ),
+            ctx.probe,
+        )
+        size = _model_extent(entry, None if jid is None else str(jid), ctx.probe(label), ctx)
         if size is None:
             warnings[W_NO_SIZE] += 1
             skipped += 1
@@ -697,15 +842,6 @@ def _room_objects(
             continue
         if np.any(scale < 0):
             warnings[W_MIRRORED] += 1
-        label = _choose_label(
-            (
-                info.get("category"),
-                entry.get("category"),
-                entry.get("title"),
-                info.get("super-category"),
-            ),
-            ctx.probe,
-        )
         category = ctx.mapper(label)
         if label is not None and label.lower() in GENERIC_LAMPS:
             category = lamp_by_height(box.bottom - float(shift[2]))  # above the floor
@@ -722,6 +858,36 @@ def _room_objects(
         )
         per_category[category] += 1
     return objects, skipped
+
+
+def _model_extent(entry: dict, jid: str | None, category: str, ctx: _Context) -> np.ndarray | None:
+    """(3,) a furniture model's extent along its own x, y (up), z (front): its 3D-FUTURE
+    mesh's when the model folder has it (:data:`MESH_FILE`; a file extent that disagrees
+    is counted), else ``size`` read by :func:`size_axes`, else ``bbox`` (y-up)."""
+    field = _field_extent(entry)
+    extent = None
+    if field is not None:
+        value, key = field
+        extent = value
+        if key == "size":
+            extent, flipped = size_axes(value, category)
+            if flipped:
+                ctx.report.warnings[W_SIZE_Y_UP] += 1
+    mesh = _mesh_extent(jid, ctx)
+    if mesh is None:
+        return extent
+    if extent is not None and np.any(np.abs(extent - mesh) > MESH_AGREE * mesh + 1e-3):
+        ctx.report.warnings[W_SIZE_MESH] += 1
+    return mesh
+
+
+def _mesh_extent(jid: str | None, ctx: _Context) -> np.ndarray | None:
+    if jid is None or ctx.models is None:
+        return None
+    if jid not in ctx.mesh_extents:
+        file = ctx.models / jid / MESH_FILE
+        ctx.mesh_extents[jid] = read_obj_extent(file) if file.is_file() else None
+    return ctx.mesh_extents[jid]
 
 
 def _furniture_bounds(objects: list[SceneObject]) -> np.ndarray:
@@ -758,7 +924,7 @@ def load_front3d(path: str | Path, split: str | None = None, progress: bool = Fa
         model_info = load_model_info(info_file)
     mapper = LabelMapper(FUTURE3D_LABELS, case_insensitive=True)
     probe = LabelMapper(FUTURE3D_LABELS, case_insensitive=True)
-    ctx = _Context(model_info, mapper, probe, report)
+    ctx = _Context(model_info, mapper, probe, report, future_models(root, info_file))
 
     scenes: list[Scene] = []
     for file in track(files, "3D-FRONT houses", enabled=progress):
