@@ -1,8 +1,8 @@
 """The 3D-FRONT adapter on the pitfalls of real house files, with answers known by
 construction (tests/fixtures/3dfront-pitfalls/make.py writes the fixture):
 
-- ``size`` is mostly [width, depth, height] (z up), sometimes [width, height, depth];
-  ``bbox`` is the model's own y-up extent; a 3D-FUTURE mesh, when at hand, wins;
+- ``size`` is [width, depth, height] (z up) and a ``bbox`` beside it repeats it, but a
+  ``bbox`` on its own is the model's y-up extent; a 3D-FUTURE mesh, when at hand, wins;
 - floors of overlapping, repeated and tiled pieces with zero-area slivers;
 - doors and windows of several meshes (frame, leaf, threshold, sill; a bay window of
   five), a door listed under one of its two rooms only, a lone flat sill;
@@ -55,7 +55,7 @@ def test_sizes_read_in_the_right_axes(rooms):
     assert bed[2] < 1.4 and bed[1] > bed[0]
     np.testing.assert_allclose(bed, [1.95, 2.33, 1.21])
     np.testing.assert_allclose(bedroom["wardrobe_0"].box.size, [1.6, 0.62, 2.43])
-    # [0.8, 2.0, 0.35] is width, height, depth: only that reading is a bookcase
+    # size and bbox both [0.8, 0.35, 2.0]: z up, as the size says
     np.testing.assert_allclose(bedroom["shelving_unit_0"].box.size, [0.8, 0.35, 2.0])
     np.testing.assert_allclose(bedroom["desk_0"].box.size, [1.4, 0.7, 0.76])  # bbox: y-up
     for o in bedroom.values():  # every one stands on the floor or hangs under the ceiling
@@ -63,16 +63,8 @@ def test_sizes_read_in_the_right_axes(rooms):
     living = rooms["LivingRoom-2"].by_id()
     # the sofa's size [2.1, 0.9, 2.5] is wrong; its raw_model.obj is 2.2 x 0.85 (up) x 0.95
     np.testing.assert_allclose(living["sofa_0"].box.size, [2.2, 0.95, 0.85], atol=1e-4)
-
-
-def test_size_axes_keep_the_files_order_unless_the_category_says_otherwise():
-    z_up, flipped = front3d.size_axes(np.array([1.95, 2.33, 1.21]), "bed")
-    assert not flipped and list(z_up) == [1.95, 1.21, 2.33]  # model x, y (up), z (front)
-    y_up, flipped = front3d.size_axes(np.array([0.8, 2.0, 0.35]), "shelving_unit")
-    assert flipped and list(y_up) == [0.8, 2.0, 0.35]
-    cube, flipped = front3d.size_axes(np.array([0.5, 0.45, 0.55]), "side_table")
-    assert not flipped  # nearly a cube: the usual order
-    assert not front3d.size_axes(np.array([0.8, 2.0, 0.35]), "no_such_category")[1]
+    # the coffee table's model_info entry gives its bounding box: 110 x 55 x 42 cm
+    np.testing.assert_allclose(living["coffee_table_0"].box.size, [1.1, 0.55, 0.42])
 
 
 def test_lamps_by_where_they_are(rooms):
@@ -125,7 +117,6 @@ def test_one_opening_per_door_and_window_with_its_height(rooms):
 
 def test_the_report_counts_each_pitfall(corpus):
     w = corpus.report.warnings
-    assert w[front3d.W_SIZE_Y_UP] == 1  # the bookcase
     assert w[front3d.W_SIZE_MESH] == 1  # the sofa
     assert w[front3d.W_FLAT_OPENING] == 1  # the lone sill
     assert w[front3d.W_OUTSIDE_FLOOR] == 1  # SecondBedroom-3

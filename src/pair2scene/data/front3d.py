@@ -20,11 +20,12 @@ shifted so that the room's floor mesh lies at z = 0.
 
 What real house files hold, and how it is read:
 
-- Extents. A furniture entry's ``size`` is mostly [width, depth, height] (z up) but not
-  always; an entry with only a ``bbox`` has it in the model's own y-up axes. ``size``
-  is read z-up unless the y-up reading fits the category's typical shape clearly better
-  (:func:`size_axes`); when 3D-FUTURE's model folder is at hand, the model's own mesh
-  extent wins (:func:`read_obj_extent`) and a file extent that disagrees is counted.
+- Extents. A furniture entry's ``size`` is [width, depth, height] (z up), and a
+  ``bbox`` beside it repeats it; an entry with only a ``bbox`` has it in the model's own
+  y-up axes (checked on 14 public house files against 3D-FUTURE's meshes: every ``size``
+  z-up, every lone ``bbox`` y-up). When 3D-FUTURE's model folder is at hand, the
+  model's own mesh extent wins (:func:`read_obj_extent`) and a file extent that
+  disagrees is counted; a model_info ``boundingBox`` (the toolbox's, in cm) comes next.
 - Floors. A room's floor comes in pieces that overlap, repeat and meet in T-junctions,
   with zero-area slivers among them: the outline is their union's outer ring
   (:func:`floor_outline`).
@@ -116,7 +117,6 @@ TOL = Front3DTolerances()
 W_NO_MODEL_INFO = "model_info.json not found (categories from house files only)"
 W_MISSING_INFO = "missing model_info entry"
 W_NO_SIZE = "no size (object skipped)"
-W_SIZE_Y_UP = "size read as width, height, depth (its category's shape)"
 W_SIZE_MESH = "size field disagrees with its 3D-FUTURE mesh (mesh extent used)"
 W_BAD_TRANSFORM = "bad pos/rot/scale (object skipped)"
 W_MIRRORED = "mirrored object (negative scale)"
@@ -525,8 +525,8 @@ def _sane(values: np.ndarray) -> bool:
 
 def _field_extent(entry: dict) -> tuple[np.ndarray, str] | None:
     """A furniture entry's extent as its file gives it, and the field: ``size`` (3
-    floats, mostly width, depth, height: z up), else ``bbox`` (the model's own y-up
-    axes, as entries with only a ``bbox`` have it; 3 floats, or min and max corners)."""
+    floats: width, depth, height), else ``bbox`` (3 floats, maybe nested, or min and max
+    corners)."""
     for key in ("size", "bbox"):
         value = entry.get(key)
         if value is None:
@@ -540,35 +540,6 @@ def _field_extent(entry: dict) -> tuple[np.ndarray, str] | None:
         if v.shape == (3,) and _sane(v) and np.all(np.abs(v) > 0):
             return np.abs(v), key
     return None
-
-
-SIZE_AXES_MARGIN = math.log(1.25)
-"""A ``size`` is read y-up (width, height, depth) instead of z-up only when that fits its
-category's typical size better by more than this (summed log-ratio of depth and height):
-a cube-like object keeps the file's usual order."""
-
-
-def size_axes(size: np.ndarray, category: str) -> tuple[np.ndarray, bool]:
-    """(the model's extent along its own x, y (up), z (front), whether ``size`` was read
-    y-up) of a furniture entry's 3-float ``size``. The field is mostly [width, depth,
-    height] but not always; the reading whose depth and height fit ``category``'s
-    typical size (:func:`~pair2scene.assets.typical_sizes.typical_size`) wins, z-up
-    unless y-up fits clearly better (:data:`SIZE_AXES_MARGIN`)."""
-    from pair2scene.assets.typical_sizes import typical_size
-
-    w, a, b = (float(x) for x in size)
-    z_up = np.array([w, b, a])  # depth a, height b
-    typical = typical_size(category)
-    if typical.source == "default":
-        return z_up, False
-    _, td, th = typical.size
-
-    def misfit(depth: float, height: float) -> float:
-        return abs(math.log(depth / td)) + abs(math.log(height / th))
-
-    if misfit(b, a) + SIZE_AXES_MARGIN < misfit(a, b):
-        return np.array([w, a, b]), True  # height a, depth b
-    return z_up, False
 
 
 def read_obj_extent(file: Path) -> np.ndarray | None:
@@ -824,7 +795,7 @@ def _room_objects(
             ),
             ctx.probe,
         )
-        size = _model_extent(entry, None if jid is None else str(jid), ctx.probe(label), ctx)
+        size = _model_extent(entry, info, None if jid is None else str(jid), ctx)
         if size is None:
             warnings[W_NO_SIZE] += 1
             skipped += 1
@@ -860,19 +831,31 @@ def _room_objects(
     return objects, skipped
 
 
-def _model_extent(entry: dict, jid: str | None, category: str, ctx: _Context) -> np.ndarray | None:
+def info_extent(info: dict) -> np.ndarray | None:
+    """(3,) a model's extent along its own x, y (up), z (front) from a model_info entry's
+    ``boundingBox`` (the 3D-FRONT toolbox's: ``xLen``, ``yLen``, ``zLen`` in cm, width,
+    depth, height); None without a sane one."""
+    box = info.get("boundingBox")
+    if not isinstance(box, dict):
+        return None
+    try:
+        v = np.array([float(box[k]) for k in ("xLen", "zLen", "yLen")]) / 100.0
+    except (KeyError, TypeError, ValueError):
+        return None
+    return v if _sane(v) and np.all(v > 0) else None
+
+
+def _model_extent(entry: dict, info: dict, jid: str | None, ctx: _Context) -> np.ndarray | None:
     """(3,) a furniture model's extent along its own x, y (up), z (front): its 3D-FUTURE
-    mesh's when the model folder has it (:data:`MESH_FILE`; a file extent that disagrees
-    is counted), else ``size`` read by :func:`size_axes`, else ``bbox`` (y-up)."""
+    mesh's when the model folder has it (:data:`MESH_FILE`), else its model_info
+    bounding box (:func:`info_extent`), else the file's: ``size`` is [width, depth,
+    height] (z up; a ``bbox`` beside it repeats it), a ``bbox`` on its own is in the
+    model's y-up axes. A file extent that disagrees with the mesh is counted."""
     field = _field_extent(entry)
-    extent = None
-    if field is not None:
+    extent = info_extent(info)
+    if extent is None and field is not None:
         value, key = field
-        extent = value
-        if key == "size":
-            extent, flipped = size_axes(value, category)
-            if flipped:
-                ctx.report.warnings[W_SIZE_Y_UP] += 1
+        extent = value[[0, 2, 1]] if key == "size" else value
     mesh = _mesh_extent(jid, ctx)
     if mesh is None:
         return extent
