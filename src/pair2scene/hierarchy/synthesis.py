@@ -56,6 +56,10 @@ from pair2scene.scene.model import FLOOR, WALL
 
 MODES = ("fit", "beyond")
 DEFAULT_BEYOND_OBJECTS = 80
+MAX_OBJECTS_LIMIT = 500
+"""The most objects a scene may be asked for (``max_objects``): dense ProcTHOR rooms hold
+about 150 and a 320-object bedroom takes ~20 s to place; beyond this a request is refused
+rather than left to run for hours."""
 MAX_PASSES = 50
 """Expansion passes before giving up on reaching the target count."""
 MAX_K_BOOST = 64.0

@@ -1137,6 +1137,11 @@ _check_tables()
 # -- public ---------------------------------------------------------------------------------
 
 
+MAX_TEXT_CHARS = 2000
+"""A description longer than this is cut here (with a note): a room's description is a
+few sentences, and the parser's work and the objects it names grow with the text."""
+
+
 def parse_text(text: str) -> TextSpec:
     """The room type, requested objects and their relations in a room description.
 
