@@ -174,3 +174,22 @@ def test_the_living_room_example_dresses_every_window():
         contact = wall_contact(by["sofa_0"].box, walls)
         if contact is not None:  # the sofa's back to a wall: the painting hangs on it
             assert wall_index(painting.support) == contact.wall
+
+
+def test_a_floor_object_with_a_painting_over_it_stands_against_the_wall_it_hangs_on():
+    """A painting or mirror placed relative to a floor object hangs over it on the wall
+    behind it, as in the training rooms: that object always goes against a wall."""
+    from pair2scene.generate import Pair2Scene
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.walls import wall_contact
+
+    placer = Pair2Scene.from_pretrained().placer
+    for seed in range(6):
+        h = Hierarchy("living_room")
+        sofa = h.add("sofa", "floor")
+        h.add("painting", "wall", sofa.id)
+        scene = placer.place(h.validate(), ROOM, seed=seed).scene
+        by = {o.id: o for o in scene.objects}
+        contact = wall_contact(by[sofa.id].box, WALLS)
+        assert contact is not None, seed
+        assert wall_index(by["painting_0"].support) == contact.wall, seed

@@ -49,6 +49,7 @@ from pair2scene.assembly.collision import (
     obb_overlaps,
 )
 from pair2scene.assembly.mounting import (
+    HANGS_OVER,
     dress_window,
     fitted_dressing,
     mount,
@@ -487,6 +488,11 @@ class Placer:
             )
             overflow = {o.id: o.reason for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
+        backed = {  # floor objects a painting or mirror hangs over: against a wall
+            hierarchy.functional[n.id] for n in hierarchy.nodes
+            if n.category in HANGS_OVER and on_wall(hierarchy.support[n.id])
+            and hierarchy.functional.get(n.id) is not None
+        }  # fmt: skip
         timer["assets"] += time.perf_counter() - t0
 
         for item in order:
@@ -533,7 +539,8 @@ class Placer:
                                    asset=asset, region=region)  # fmt: skip
             queries = [(query, None)]
             if item.support == FLOOR:
-                queries = self._wall_queries(query, node, room, placed, seed, check) or queries
+                queries = self._wall_queries(query, node, room, placed, seed, check,
+                                             node.id in backed) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
                                               dressed)  # fmt: skip
@@ -645,14 +652,16 @@ class Placer:
 
     def _wall_queries(
         self, query, node, room: Room, placed: dict[str, _Placed], seed: int,
-        check: AnchorCheck | None = None,
+        check: AnchorCheck | None = None, backed: bool = False,
     ) -> list:  # fmt: skip
         """(``query`` in a wall's frame, the wall) once per wall to try, best first
-        (:func:`wall_order`), when the wall rules put this floor object against a wall and
-        a wall has room for it; else []."""
+        (:func:`wall_order`), when the wall rules put this floor object against a wall
+        (always when a painting or mirror hangs over it: ``backed``) and a wall has room
+        for it; else []."""
         if self.walls is None or not self.config.walls:
             return []
-        if not self.walls.against_wall(room.type, node.category, asset_seed(node.id, seed)):
+        seed_ = asset_seed(node.id, seed)
+        if not backed and not self.walls.against_wall(room.type, node.category, seed_):
             return []
         size = np.asarray(query.size, float)
         walls = walls_of(room.floor_polygon)
@@ -660,7 +669,7 @@ class Placer:
         free = [
             free_length(free_stretches(w, room, boxes, size[1], size[2]), size[0]) for w in walls
         ]
-        rng = np.random.default_rng([asset_seed(node.id, seed), 181])
+        rng = np.random.default_rng([seed_, 181])
         anchor = distance = None
         if query.functional is not None:
             anchor = query.functional.box
