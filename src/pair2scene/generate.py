@@ -8,11 +8,21 @@
 :func:`generate_scenes` writes ``OUT/<scene_id>/{scene.json, scene.glb, bev.png}`` per
 scene and ``OUT/summary.json`` with every scene's statistics; run again with the same
 arguments it skips the scenes already written (resume), and gives the same files.
+
+No debris: a scene folder and summary.json appear whole or not at all (written beside,
+then renamed). What a killed run's write left (hidden ``.<id>.<random>`` folders,
+``.summary.json.<random>.tmp`` files) is removed when the next run into that folder
+starts, and readers skip hidden names meanwhile. One run at a time writes into a folder
+(a second one is refused in one line). A SIGTERM unwinds like Ctrl-C (the scene being
+written is dropped, exit 143).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+import os
+import time
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -29,7 +39,7 @@ from pair2scene.assembly.walls import WallRules
 from pair2scene.categories import WINDOW_DRESSINGS
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
-from pair2scene.hierarchy.synthesis import HierarchyConfig, load_stats
+from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.io.summary import Summary, resume_summary
 from pair2scene.scene.model import FLOOR, Scene, on_wall
@@ -207,8 +217,13 @@ class Pair2Scene:
             or slides is dropped with the reason.
         """
         if keep is not None and not isinstance(keep, Kept):
-            keep = load_keep(keep)
+            keep = load_keep(keep, self.stats)
         partial, keep_notes = (None, []) if keep is None else (keep.scene, keep.notes)
+        if partial is not None and len(partial.objects) > MAX_OBJECTS_LIMIT:
+            raise UserError(
+                f"the partial scene to keep has {len(partial.objects)} objects; a scene may "
+                f"have at most {MAX_OBJECTS_LIMIT} (MAX_OBJECTS_LIMIT)"
+            )
         if room is None and text is None:
             if partial is None:
                 raise UserError("give a room type, a description or a partial scene to keep")
@@ -393,6 +408,79 @@ def own_tables(stats: str | Path) -> tuple[HierarchyStats, SizeTable | None, Roo
     return hierarchy, SizeTable.from_pairs(data, split=None), RoomTable.from_pairs(data, None)
 
 
+SUMMARY_WRITE_SHARE = 0.05
+"""summary.json is rewritten after a scene unless that would spend more than about this
+share of the run's time on it (it grows with the scenes: rewritten after every one of
+100,000 it would make a run quadratic). A scene it does not list yet is generated again
+on a resume (the same seed gives the same files)."""
+
+
+@contextlib.contextmanager
+def _only_writer(out: Path) -> Iterator[None]:
+    """Hold an exclusive lock on the folder ``out`` (flock on the folder itself: no lock
+    file, released when the process ends however it ends); another run writing there is
+    a UserError. Where locks are not supported, runs unlocked."""
+    try:
+        import fcntl
+    except ImportError:  # (not POSIX)
+        fcntl = None
+    fd = None
+    if fcntl is not None:
+        with contextlib.suppress(OSError):
+            fd = os.open(out, os.O_RDONLY)
+    if fd is None:
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise UserError(
+                f"{out}: another pair2scene generate is writing there; wait for it to end, "
+                "or choose another --out"
+            ) from None
+        except OSError:
+            pass  # (a file system without locks)
+        yield
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def _terminate_unwinds() -> Iterator[None]:
+    """While writing, SIGTERM raises SystemExit(143) (as Ctrl-C raises KeyboardInterrupt)
+    so that the scene being written is removed on the way out; only in the main thread and
+    when SIGTERM has its default handler (a caller's own handler is left alone)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
+        yield
+        return
+
+    def stop(signum, frame) -> None:
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def clean_output_folder(out: str | Path) -> list[str]:
+    """Remove what killed writes left in ``out`` (the temporary scene folders of
+    :func:`~pair2scene.io.export.remove_stale_scene_folders`, summary.json's temporary
+    files); returns their names. Only while no other run writes there."""
+    from pair2scene.io.atomic import remove_stale_temporaries
+    from pair2scene.io.export import remove_stale_scene_folders
+    from pair2scene.io.summary import SUMMARY_FILE
+
+    return remove_stale_scene_folders(out) + remove_stale_temporaries(out, SUMMARY_FILE)
+
+
 def generate_scenes(
     out: str | Path,
     room: str | None = None,
@@ -422,6 +510,11 @@ def generate_scenes(
     ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
     stats : the ``stats.json`` of your own curation (:func:`own_tables`); None: the bundled
         statistics and tables.
+
+    Bad input is a one-line UserError before anything is written (``out`` is created only
+    then); an output folder that cannot be written is one too. A killed run's leftovers
+    are removed first (:func:`clean_output_folder`); a second run into the same ``out`` at
+    the same time is refused.
     """
     from pair2scene.io.export import write_scene_folder
     from pair2scene.io.names import scene_folder
@@ -452,22 +545,43 @@ def generate_scenes(
     summary = resume_summary(out, request)
     p2s = Pair2Scene.from_pretrained(model, config, stats)
     # A bad room type, text or partial scene fails here, in one line, before any progress.
-    kept = None if keep is None else load_keep(keep)
+    kept = None if keep is None else load_keep(keep, p2s.stats)
     if kept is not None and room is None and text is None:
         room = kept.scene.room.type
     build_hierarchy(None if room is None else room_key(room), text, mode, max_objects, seed,
                     p2s.stats, llm, config.hierarchy)  # fmt: skip
-    for i in track(range(num), "generating", enabled=progress):
-        s = seed + i
-        prefix = room_key(room) if room is not None else "text"
-        sid = f"{prefix}_{s:04d}"
-        if sid in summary.scenes and (scene_folder(out, sid) / "scene.json").is_file():
-            continue
-        result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid, keep=kept,
-                              settle=settle)  # fmt: skip
-        write_scene_folder(scene_folder(out, sid), result.scene, result.assets)
-        summary.add({"id": sid, **result.stats.to_dict()})
-        summary.write(out)
-    summary.totals = summary.compute_totals()
-    summary.write(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise UserError(f"{out}: cannot create the folder ({e.strerror or e})") from None
+    with _only_writer(out), _terminate_unwinds():
+        clean_output_folder(out)
+        summary = resume_summary(out, request)  # (again: what an earlier run added since)
+        write_seconds, since = 0.0, time.monotonic()
+        for i in track(range(num), "generating", enabled=progress):
+            s = seed + i
+            prefix = room_key(room) if room is not None else "text"
+            sid = f"{prefix}_{s:04d}"
+            if sid in summary.scenes and (scene_folder(out, sid) / "scene.json").is_file():
+                continue
+            result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid,
+                                  keep=kept, settle=settle)  # fmt: skip
+            _writing(out, write_scene_folder, scene_folder(out, sid), result.scene,
+                     result.assets)  # fmt: skip
+            summary.add({"id": sid, **result.stats.to_dict()})
+            if write_seconds <= SUMMARY_WRITE_SHARE * (time.monotonic() - since):
+                start = time.monotonic()
+                _writing(out, summary.write, out)
+                write_seconds, since = time.monotonic() - start, time.monotonic()
+        summary.totals = summary.compute_totals()
+        _writing(out, summary.write, out)
     return summary
+
+
+def _writing(out: Path, write, *args) -> None:
+    """``write(*args)``; a file system error (a full disk, no permission) is one line."""
+    try:
+        write(*args)
+    except OSError as e:
+        where = e.filename or out
+        raise UserError(f"{where}: cannot write ({e.strerror or e})") from None

@@ -253,7 +253,7 @@ def test_cli_room_json_and_errors():
         (["--room", "garage"], "unknown room type"),
         (["--room", "bedroom", "--text", "a bed"], "exactly one"),
         (["--room", "bedroom", "--mode", "sideways"], "unknown mode"),
-        (["--room", "bedroom", "--stats", "/nonexistent/stats.json"], "cannot read"),
+        (["--room", "bedroom", "--stats", "/nonexistent/stats.json"], "no such file"),
     ]:
         proc = run_cli("hierarchy", *args)
         assert proc.returncode == 2 and msg in proc.stderr, (args, proc.stderr)

@@ -1,11 +1,16 @@
 """The ``pair2scene`` command line. Thin: each command parses, calls one library function.
 
-User errors end in one line on stderr and exit code 2; a traceback means a bug.
+User errors end in one line on stderr and exit code 2; a traceback means a bug. Every
+option is checked before any work (:mod:`pair2scene.cli.checks`); an error of the
+operating system that still comes later (a full disk, a folder made read-only while the
+command runs) is one line too, naming the path. A message is cut to
+:data:`MAX_ERROR_CHARS` characters.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -19,6 +24,10 @@ from pair2scene.cli.generate import generate_command
 from pair2scene.cli.hierarchy import hierarchy_command
 from pair2scene.cli.model import pretrain_command, score_command, train_command
 from pair2scene.errors import UserError
+
+MAX_ERROR_CHARS = 300
+"""Longest error message printed; the rest is cut (a message may quote the user's input,
+which may be megabytes long)."""
 
 app = typer.Typer(
     name="pair2scene",
@@ -87,8 +96,32 @@ def validate(
         typer.echo(f"{f}: ok ({len(scene.objects)} objects, room {scene.room.type})")
 
 
+def error_line(message: str, suffix: str = "") -> str:
+    """``error: <message><suffix>`` as one line (line breaks and control characters
+    become spaces), the message cut to :data:`MAX_ERROR_CHARS` characters saying how many
+    were cut."""
+    message = message.strip()
+    cut = len(message) - MAX_ERROR_CHARS
+    text = "".join(c if c.isprintable() else " " for c in message[:MAX_ERROR_CHARS])
+    if cut > 0:
+        text += f"... ({cut} more characters)"
+    return f"error: {text}{suffix}"
+
+
+def os_error_message(e: OSError) -> str:
+    """``<path>: <reason>`` of an error of the operating system (the target of a rename:
+    the file being written, not its temporary)."""
+    reason = e.strerror or str(e) or type(e).__name__
+    path = e.filename2 if e.filename2 is not None else e.filename
+    if path is None:
+        return reason
+    name = os.fsdecode(path) if isinstance(path, str | bytes | os.PathLike) else str(path)
+    return f"{name}: {reason}"
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Console entry point: maps user errors to one line and exit code 2."""
+    """Console entry point: maps user errors and errors of the operating system (a full
+    disk, a missing permission) to one line and exit code 2."""
     try:
         rv = app(args=argv, standalone_mode=False)
         if isinstance(rv, int) and rv:  # some typer releases return 130 on Ctrl-C
@@ -96,13 +129,16 @@ def main(argv: list[str] | None = None) -> int:
                 print("interrupted", file=sys.stderr)
             return rv
     except UserError as e:
-        print(f"error: {e}", file=sys.stderr)
+        print(error_line(str(e)), file=sys.stderr)
         return e.exit_code
     except typer.Exit as e:
         return e.exit_code
     except (typer.Abort, KeyboardInterrupt):
         print("interrupted", file=sys.stderr)
         return 130
+    except OSError as e:
+        print(error_line(os_error_message(e)), file=sys.stderr)
+        return 2
     except Exception as e:
         # Usage errors of the argument parser (click's or typer's own vendored copy,
         # depending on the typer release): same one-line treatment.
@@ -112,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         ctx = getattr(e, "ctx", None)
         hint = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
-        print(f"error: {e.format_message()}{hint}", file=sys.stderr)
+        print(error_line(e.format_message(), hint), file=sys.stderr)
         return 2
     return 0
 

@@ -14,6 +14,8 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import MAX_COLUMNS, SEED_LIMIT, check_seed, path_parser, writable_file
+
 assets_app = typer.Typer(
     help="Procedural assets: list the library, draw its contact sheet.", no_args_is_help=True
 )
@@ -62,18 +64,30 @@ def assets_list(
 
 @assets_app.command("sheet")
 def assets_sheet(
-    out: Annotated[Path, typer.Option("--out", help="PNG to write.")] = Path("asset_sheet.png"),
-    seed: Annotated[int, typer.Option(help="Seed of every generator's draws.")] = 0,
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out", parser=path_parser("--out"), metavar="FILE", help="PNG to write (a file)."
+        ),
+    ] = Path("asset_sheet.png"),
+    seed: Annotated[
+        int,
+        typer.Option(help=f"Seed of every generator's draws; 0 .. 2**32 - 1 ({SEED_LIMIT - 1:,})."),
+    ] = 0,
     categories: Annotated[
         str | None, typer.Option(help="Comma-separated categories; all when omitted.")
     ] = None,
-    columns: Annotated[int | None, typer.Option(min=1, help="Cells per row.")] = None,
+    columns: Annotated[
+        int | None, typer.Option(min=1, max=MAX_COLUMNS, help=f"Cells per row, 1 .. {MAX_COLUMNS}.")
+    ] = None,
 ) -> None:
     """Draw a contact sheet: per category its top and 3/4 views at its typical size.
 
     Box fallbacks are captioned in red. A generator that raises gets a red error cell,
     a warning on stderr, and exit code 1 once the sheet is written.
     """
+    check_seed(seed)
+    out = writable_file(out, "--out")
     from pair2scene.assets.sheet import asset_sheet
 
     result = asset_sheet(out, categories=categories, seed=seed, columns=columns, progress=True)

@@ -12,6 +12,15 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import (
+    MAX_WORKERS,
+    SEED_LIMIT,
+    check_count,
+    check_seed,
+    path_parser,
+    writable_folder,
+)
+
 
 def curate(
     source: Annotated[
@@ -23,7 +32,13 @@ def curate(
         ),
     ],
     out: Annotated[
-        Path, typer.Option("--out", help="Output folder (an earlier run there resumes).")
+        Path,
+        typer.Option(
+            "--out",
+            parser=path_parser("--out"),
+            metavar="DIR",
+            help="Output folder (an earlier run there resumes).",
+        ),
     ],
     functional: Annotated[
         str, typer.Option(help="Functional proposer: offline (built-in table) or llm.")
@@ -38,9 +53,16 @@ def curate(
             help="Leave out floor-only tuples of this source (ai2thor, procthor...); repeatable.",
         ),
     ] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the procedural assets physics builds.")] = 0,
+    seed: Annotated[
+        int,
+        typer.Option(
+            help=f"Seed of the procedural assets physics builds; 0 .. 2**32 - 1 "
+            f"({SEED_LIMIT - 1:,})."
+        ),
+    ] = 0,
     workers: Annotated[
-        int | None, typer.Option(min=1, help="Processes for the per-scene stages (default 2).")
+        int | None,
+        typer.Option(help=f"Processes for the per-scene stages, 1 .. {MAX_WORKERS} (default 2)."),
     ] = None,
     fresh: Annotated[
         bool, typer.Option("--fresh", help="Redo everything instead of resuming.")
@@ -54,6 +76,9 @@ def curate(
     A source that cannot be read is reported and skipped; the others are curated. An
     interrupted run continues where it stopped when run again with the same arguments.
     """
+    check_seed(seed)
+    check_count(workers, "--workers", MAX_WORKERS)
+    out = writable_folder(out, "--out")
     from pair2scene.curation.pipeline import REPORT_FILE, CurateConfig
     from pair2scene.curation.pipeline import curate as run_curate
 

@@ -8,10 +8,27 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import (
+    MAX_THREADS,
+    SEED_LIMIT,
+    check_seed,
+    check_threads,
+    path_parser,
+    writable_file,
+)
+
 
 def evaluate_command(
     scenes: Annotated[Path, typer.Option(help="Folder of generated scenes (pair2scene generate).")],
-    out: Annotated[Path, typer.Option("--out", help="Report JSON to write.")],
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            parser=path_parser("--out"),
+            metavar="FILE",
+            help="Report JSON to write (a file, not a folder; OUT.cache.json beside it).",
+        ),
+    ],
     reference: Annotated[
         list[str] | None,
         typer.Option(
@@ -21,14 +38,23 @@ def evaluate_command(
     physics: Annotated[bool, typer.Option(help="Mesh collision and floating.")] = True,
     simulate: Annotated[bool, typer.Option(help="Stability: 2 s of MuJoCo per scene.")] = True,
     images: Annotated[bool, typer.Option(help="FID, KID and SCA on top views.")] = True,
-    seed: Annotated[int, typer.Option(help="Seeds subsets (KID, SCA, pose MMD).")] = 0,
+    seed: Annotated[
+        int,
+        typer.Option(
+            help=f"Seeds subsets (KID, SCA, pose MMD); 0 .. 2**32 - 1 ({SEED_LIMIT - 1:,})."
+        ),
+    ] = 0,
     threads: Annotated[
-        int | None, typer.Option(help="Torch threads for FID and SCA (default: torch's).")
+        int | None,
+        typer.Option(help=f"Torch threads for FID and SCA, 1 .. {MAX_THREADS} (default: torch's)."),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
 ) -> None:
     """Evaluate generated scenes against real rooms of the same type: physical, process
     and distribution metrics, FID/KID/SCA on top views; writes the report to OUT."""
+    check_seed(seed)
+    check_threads(threads)
+    out = writable_file(out, "--out")
     from pair2scene.evaluate import HEADLINE, SECTIONS, evaluate, section_rows
 
     report = evaluate(scenes, reference or ["ai2thor:val"], out, physics=physics,

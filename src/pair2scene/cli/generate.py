@@ -8,13 +8,37 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import (
+    MAX_NUM,
+    MAX_THREADS,
+    SEED_LIMIT,
+    check_choice,
+    check_count,
+    check_max_objects,
+    check_seed,
+    check_threads,
+    existing_file,
+    path_parser,
+    writable_folder,
+)
 from pair2scene.cli.options import with_config
 from pair2scene.generate import GenerateConfig
+from pair2scene.hierarchy.build import LLM_CHOICES
+from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, MODES
 
 
 @with_config(GenerateConfig)
 def generate_command(
-    out: Annotated[Path, typer.Option("--out", help="Output folder (resumed if present).")],
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            parser=path_parser("--out"),
+            metavar="DIR",
+            help="Output folder (resumed if present); made if missing, its folder must be "
+            "writable.",
+        ),
+    ],
     room: Annotated[
         str | None,
         typer.Option(
@@ -23,11 +47,23 @@ def generate_command(
         ),
     ] = None,
     text: Annotated[str | None, typer.Option(help="A description of the room.")] = None,
-    num: Annotated[int, typer.Option(help="Scenes to generate (seeds seed .. seed+num-1).")] = 1,
-    seed: Annotated[int, typer.Option(help="First seed; same seed, same scene.")] = 0,
+    num: Annotated[
+        int,
+        typer.Option(help=f"Scenes to generate (seeds seed .. seed+num-1), 1 .. {MAX_NUM:,}."),
+    ] = 1,
+    seed: Annotated[
+        int,
+        typer.Option(
+            help=f"First seed; same seed, same scene. 0 <= seed and seed+num-1 < 2**32 "
+            f"({SEED_LIMIT:,})."
+        ),
+    ] = 0,
     mode: Annotated[str, typer.Option(help="fit (training-like counts) or beyond.")] = "fit",
     max_objects: Annotated[
-        int | None, typer.Option(help="beyond: objects to reach (default 80); fit: a cap.")
+        int | None,
+        typer.Option(
+            help=f"beyond: objects to reach (default 80); fit: a cap. 1 .. {MAX_OBJECTS_LIMIT}."
+        ),
     ] = None,
     model: Annotated[
         str,
@@ -61,7 +97,10 @@ def generate_command(
         ),
     ] = None,
     threads: Annotated[
-        int | None, typer.Option(help="CPU threads for torch (default: all cores, at most 4).")
+        int | None,
+        typer.Option(
+            help=f"CPU threads for torch, 1 .. {MAX_THREADS} (default: all cores, at most 4)."
+        ),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     config: GenerateConfig | None = None,
@@ -71,6 +110,16 @@ def generate_command(
     Every setting of generation (how hierarchies are drawn and placed) is an option below,
     named by its place in the config: --hierarchy.k, --assembly.temperature...
     """
+    # Every value is checked before the model loads: a bad one costs no time, writes nothing.
+    check_count(num, "--num", MAX_NUM)
+    check_seed(seed, count=num)
+    check_max_objects(max_objects)
+    check_threads(threads)
+    check_choice(mode, "--mode", MODES)
+    check_choice(llm, "--llm", LLM_CHOICES)
+    existing_file(keep, "--keep")
+    existing_file(stats, "--stats")
+    out = writable_folder(out, "--out")
     from pair2scene.generate import generate_scenes, set_threads
 
     set_threads(threads)

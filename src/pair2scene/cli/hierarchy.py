@@ -11,9 +11,11 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import SEED_LIMIT, check_choice, check_max_objects, check_seed
 from pair2scene.cli.options import with_config
 from pair2scene.errors import UserError
-from pair2scene.hierarchy.synthesis import HierarchyConfig
+from pair2scene.hierarchy.build import LLM_CHOICES
+from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, MODES, HierarchyConfig
 
 
 @with_config(HierarchyConfig, prefix=("hierarchy",))
@@ -34,9 +36,14 @@ def hierarchy_command(
         str, typer.Option(help="fit (counts like the training rooms) or beyond (denser).")
     ] = "fit",
     max_objects: Annotated[
-        int | None, typer.Option(help="beyond: objects to reach (default 80); fit: a cap.")
+        int | None,
+        typer.Option(
+            help=f"beyond: objects to reach (default 80); fit: a cap. 1 .. {MAX_OBJECTS_LIMIT}."
+        ),
     ] = None,
-    seed: Annotated[int, typer.Option(help="Same seed, same hierarchy.")] = 0,
+    seed: Annotated[
+        int, typer.Option(help=f"Same seed, same hierarchy. 0 .. 2**32 - 1 ({SEED_LIMIT - 1:,}).")
+    ] = 0,
     stats: Annotated[
         Path | None, typer.Option(help="stats.json of a curation run (default: bundled).")
     ] = None,
@@ -55,6 +62,10 @@ def hierarchy_command(
     "edges": [{"anchor", "dependent"}]}], "sequence": [{"dependent", "support",
     "functional_anchor"}], "notes"}; every reference is {"id", "category"}.
     """
+    check_seed(seed)
+    check_max_objects(max_objects)
+    check_choice(mode, "--mode", MODES)
+    check_choice(llm, "--llm", LLM_CHOICES)
     from pair2scene.hierarchy.build import build_hierarchy, read_hierarchy
 
     if file is not None:

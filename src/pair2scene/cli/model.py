@@ -13,6 +13,20 @@ from typing import Annotated
 
 import typer
 
+from pair2scene.cli.checks import (
+    MAX_BATCH,
+    MAX_EPOCHS,
+    MAX_STEPS,
+    SEED_LIMIT,
+    check_count,
+    check_seed,
+    path_parser,
+    writable_file,
+    writable_folder,
+)
+
+SEED_HELP = f"0 .. 2**32 - 1 ({SEED_LIMIT - 1:,})"
+
 
 def score_command(
     data: Annotated[
@@ -27,7 +41,9 @@ def score_command(
     ] = "default",
     split: Annotated[str, typer.Option(help="Split to score: val or train.")] = "val",
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON (see below).")] = False,
-    seed: Annotated[int, typer.Option(help="Seed of the baseline's EM (--model gaussian).")] = 0,
+    seed: Annotated[
+        int, typer.Option(help=f"Seed of the baseline's EM (--model gaussian); {SEED_HELP}.")
+    ] = 0,
     anchor_frames: Annotated[
         bool,
         typer.Option(
@@ -38,7 +54,11 @@ def score_command(
     ] = True,
     save_baseline: Annotated[
         Path | None,
-        typer.Option(help="With --model gaussian: also write the fitted baseline as JSON here."),
+        typer.Option(
+            parser=path_parser("--save-baseline"),
+            metavar="FILE",
+            help="With --model gaussian: also write the fitted baseline as JSON here.",
+        ),
     ] = None,
     fit_on: Annotated[
         Path | None,
@@ -61,9 +81,12 @@ def score_command(
     from pair2scene.model.baseline import GaussianBaseline, GaussianConfig
     from pair2scene.model.scoring import load_model, score
 
+    check_seed(seed)
     for flag, value in (("--save-baseline", save_baseline), ("--fit-on", fit_on)):
         if value is not None and model != "gaussian":
             raise UserError(f"{flag} needs --model gaussian")
+    if save_baseline is not None:
+        save_baseline = writable_file(save_baseline, "--save-baseline")
     pairs = load_pairs(data)
     fit = pairs if fit_on is None else load_pairs(fit_on)
     scorer = load_model(
@@ -88,19 +111,36 @@ def score_command(
 
 
 def pretrain_command(
-    out: Annotated[Path, typer.Option("--out", help="Folder for the encoder's files.")],
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            parser=path_parser("--out"),
+            metavar="DIR",
+            help="Folder for the encoder's files.",
+        ),
+    ],
     preset_name: Annotated[
         str, typer.Option("--preset", help="Encoder sizes: tiny, cpu (default) or paper.")
     ] = "cpu",
     steps: Annotated[
-        int | None, typer.Option(help="Optimiser steps (default: the preset's schedule).")
+        int | None,
+        typer.Option(help=f"Optimiser steps, 1 .. {MAX_STEPS:,} (default: the preset's schedule)."),
     ] = None,
-    batch_size: Annotated[int | None, typer.Option(help="Clouds per step.")] = None,
-    seed: Annotated[int, typer.Option(help="Seeds the assets, weights, batches, masks.")] = 0,
+    batch_size: Annotated[
+        int | None, typer.Option(help=f"Clouds per step, 1 .. {MAX_BATCH:,}.")
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help=f"Seeds the assets, weights, batches, masks; {SEED_HELP}.")
+    ] = 0,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Pre-train the Point-MAE encoder by masked autoencoding (mask 0.6, Chamfer-L2) on
     the procedural asset library's clouds; writes encoder.safetensors + pointmae.json."""
+    check_count(steps, "--steps", MAX_STEPS)
+    check_count(batch_size, "--batch-size", MAX_BATCH)
+    check_seed(seed)
+    out = writable_folder(out, "--out")
     from pair2scene.model.pretrain import pretrain, pretrain_config
 
     config = pretrain_config(preset_name, steps=steps, batch_size=batch_size, seed=seed)
@@ -126,7 +166,15 @@ def train_command(
     data: Annotated[
         Path, typer.Option("--data", help="3D-Pairs folder (the output of pair2scene curate).")
     ],
-    out: Annotated[Path, typer.Option("--out", help="Checkpoint folder (resumed if present).")],
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            parser=path_parser("--out"),
+            metavar="DIR",
+            help="Checkpoint folder (resumed if present).",
+        ),
+    ],
     preset_name: Annotated[
         str, typer.Option("--preset", help="tiny, cpu (default) or paper.")
     ] = "cpu",
@@ -137,9 +185,15 @@ def train_command(
         Path | None,
         typer.Option(help="Pre-trained encoder folder (pair2scene pretrain); default: bundled."),
     ] = None,
-    epochs: Annotated[int | None, typer.Option(help="Override the preset's epochs.")] = None,
-    max_steps: Annotated[int | None, typer.Option(help="Stop after this many steps.")] = None,
-    seed: Annotated[int, typer.Option(help="Seeds the weights and the batch order.")] = 0,
+    epochs: Annotated[
+        int | None, typer.Option(help=f"Override the preset's epochs, 1 .. {MAX_EPOCHS:,}.")
+    ] = None,
+    max_steps: Annotated[
+        int | None, typer.Option(help=f"Stop after this many steps, 1 .. {MAX_STEPS:,}.")
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help=f"Seeds the weights and the batch order; {SEED_HELP}.")
+    ] = 0,
     anchor_frames: Annotated[
         bool,
         typer.Option(
@@ -162,6 +216,10 @@ def train_command(
     a resumable training state: running the same command again continues an interrupted
     run.
     """
+    check_count(epochs, "--epochs", MAX_EPOCHS)
+    check_count(max_steps, "--max-steps", MAX_STEPS)
+    check_seed(seed)
+    out = writable_folder(out, "--out")
     from pair2scene.model.train import TrainConfig, train
 
     config = TrainConfig(

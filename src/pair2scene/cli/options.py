@@ -29,6 +29,9 @@ from pair2scene.errors import UserError
 
 PANEL = "Settings"
 """Where ``--help`` lists the config's options, apart from the command's own."""
+INT_LIMIT = 2**31
+"""An integer setting lies in ``-INT_LIMIT .. INT_LIMIT - 1`` (what C code takes); each
+config's own checks bound it further."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -68,6 +71,8 @@ class ConfigOption:
             raise UserError(f"{self.flag}: expected {noun}{none}, got {text!r}") from None
         if self.kind is float and not math.isfinite(value):
             raise UserError(f"{self.flag}: expected a finite number, got {text!r}")
+        if self.kind is int and not -INT_LIMIT <= value < INT_LIMIT:
+            raise UserError(f"{self.flag}: expected an integer of 32 bits, got {text!r}")
         return value
 
 

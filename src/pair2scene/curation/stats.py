@@ -33,6 +33,7 @@ import json
 from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -542,8 +543,18 @@ class HierarchyStats:
 
     @classmethod
     def from_json(cls, text: str, where: str = "stats") -> HierarchyStats:
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as e:
-            raise UserError(f"{where}: not valid JSON ({e.msg})") from None
-        return cls.from_dict(doc, where)
+        """:meth:`from_dict` of a JSON text (at most 64 levels deep, numbers finite)."""
+        from pair2scene.io.jsondoc import parse_json
+
+        return cls.from_dict(parse_json(text, where), where)
+
+    @classmethod
+    def from_file(cls, path: str | Path) -> HierarchyStats:
+        """The statistics in a ``stats.json`` (``--stats``): read by
+        :func:`~pair2scene.io.jsondoc.read_json_file` (at most
+        :data:`~pair2scene.io.jsondoc.MAX_STATS_BYTES`, 256 MiB; UTF-8; 64 levels deep;
+        finite numbers), then :meth:`from_dict`; every problem is one UserError."""
+        from pair2scene.io.jsondoc import MAX_STATS_BYTES, read_json_file
+
+        doc = read_json_file(path, "statistics", MAX_STATS_BYTES)
+        return cls.from_dict(doc, str(path))

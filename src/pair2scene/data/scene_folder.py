@@ -3,8 +3,9 @@
 Your own rooms, written by any tool in the scene.json contract (README, "scene.json") or
 by ``pair2scene generate``, go through ``curate`` and ``data stats`` like the bundled
 sources. The files are read as :func:`pair2scene.evaluate.scene_files` finds them
-(``DIR/<id>/scene.json`` or ``DIR/*.json``); a file that breaks the contract stops the
-read with its one line. A scene keeps the split its file gives (``"split": "train"`` or
+(``DIR/<id>/scene.json`` or ``DIR/*.json``; hidden names, such as the temporary folder a
+killed ``generate`` left, are skipped); a file that breaks the contract stops the read
+with its one line. A scene keeps the split its file gives (``"split": "train"`` or
 ``"val"``); one without is split by a hash of its id, :data:`VAL_FRACTION` to val, as the
 ProcTHOR adapter splits houses.
 """

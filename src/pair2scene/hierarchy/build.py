@@ -43,7 +43,12 @@ def build_hierarchy(
     config: HierarchyConfig | None = None,
 ) -> Hierarchy:
     """A validated hierarchy for ``room`` (a room type of the statistics) or ``text``;
-    ``config``: the drawing settings (default :class:`HierarchyConfig`)."""
+    ``config``: the drawing settings (default :class:`HierarchyConfig`).
+
+    Bounded whatever the request: ``max_objects`` above
+    :data:`~pair2scene.hierarchy.synthesis.MAX_OBJECTS_LIMIT` is a UserError, a text is
+    read up to :data:`~pair2scene.hierarchy.text.MAX_TEXT_CHARS` characters (by the LLM
+    and the offline parser alike; a note says so) and its objects stop at the limit."""
     if (room is None) == (text is None):
         raise UserError("give exactly one of a room type or a text")
     if llm not in LLM_CHOICES:
@@ -56,20 +61,23 @@ def build_hierarchy(
     if room is not None:
         return synthesize(stats, room_key(room), config)
     assert text is not None
-    if not text.strip():
-        raise UserError("the text is empty")
+    from pair2scene.hierarchy.text import limit_text, parse_text
+
+    # One gate for both paths: an empty text or a negative count is refused, a long one cut.
+    limited, notes = limit_text(text)
     if llm != "never":
         from pair2scene.hierarchy.llm import hierarchy_from_llm, llm_client_from_env
 
         client = llm_client_from_env()
         if client is not None:
-            return hierarchy_from_llm(client, text, max_objects)
+            h = hierarchy_from_llm(client, limited, max_objects)
+            h.notes[:0] = notes
+            return h
         if llm == "always":
             raise UserError("--llm needs an endpoint: set PAIR2SCENE_LLM_BASE_URL (see README)")
     from pair2scene.hierarchy.from_text import hierarchy_from_spec
-    from pair2scene.hierarchy.text import parse_text
 
-    return hierarchy_from_spec(parse_text(text), stats, config)
+    return hierarchy_from_spec(parse_text(text), stats, config)  # (parse_text cuts, notes)
 
 
 def read_hierarchy(path: str | Path) -> Hierarchy:

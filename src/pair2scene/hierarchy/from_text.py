@@ -23,7 +23,14 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    training template of that room type (one holding the type's key furniture, a bed for a
    bedroom) that the text does not name, then the expansion of :mod:`.synthesis` up to the
    drawn object count (``fit``) or ``max_objects`` (``beyond``). Categories the text names
-   are never added by the statistics: "two lamps" stays two, "a painting" one painting.
+   are never added by the statistics: "two lamps" stays two, "a painting" one painting;
+   nor are those the text asks for none of (:attr:`~.text.TextSpec.excluded`: "no desk",
+   "0 beds": a bedroom without a bed).
+
+A text's hierarchy has at most :data:`~.synthesis.MAX_OBJECTS_LIMIT` objects: a phrase
+asks for at most :data:`MAX_COUNT`, and the objects past the limit are not added, with a
+note naming the phrase (as are the text's own notes: a description cut at
+:data:`~.text.MAX_TEXT_CHARS`).
 """
 
 from __future__ import annotations
@@ -37,6 +44,7 @@ from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
+    MAX_OBJECTS_LIMIT,
     Statistics,
     SynthesisConfig,
     add_floor_furniture,
@@ -122,21 +130,24 @@ def hierarchy_from_spec(
         if room_type in composable(st.stats):
             st, rs = Statistics.for_room(st.stats, room_type)
     h = Hierarchy(room_type)
+    h.notes.extend(spec.notes)
     if spec.unparsed:
         h.notes.append("not understood: " + ", ".join(spec.unparsed))
     support_of = {r.dependent: r for r in spec.relations if r.kind == "support"}
     functional_of = {r.dependent: r for r in spec.relations if r.kind == "functional"}
     instances: dict[str, list[Node]] = {}
     named = frozenset(m.category for m in spec.mentions)
+    avoid = named | frozenset(spec.excluded)  # what the statistics never add
     hung = frozenset(spec.on_wall)
 
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)
         with_key = Counter({k: v for k, v in rs.layouts.items() if key in k}) or rs.layouts
-        template = [c for c in draw_counted(with_key, rng) if split_member(c)[0] not in named]
+        template = [c for c in draw_counted(with_key, rng) if split_member(c)[0] not in avoid]
         if config.max_objects is not None:
             asked = sum(min(m.count, MAX_COUNT) for m in spec.mentions)
             template = template[: max(0, config.max_objects - asked)]
+        template = template[:MAX_OBJECTS_LIMIT]  # (statistics of your own: any template)
         add_floor_furniture(h, template, st, rng)
 
     for m in _order(spec):
@@ -151,12 +162,12 @@ def hierarchy_from_spec(
             sup_rel = None
         elif sup_rel is not None:
             anchors = instances[sup_rel.anchor]
-            n = m.count * len(anchors) if sup_rel.each else m.count
+            n = _room_for(h, m, m.count * len(anchors) if sup_rel.each else m.count, anchors)
             for i in range(n):
                 nodes.append(h.add(m.category, anchors[i % len(anchors)].id))
         elif func_rel is not None:
             anchors = instances[func_rel.anchor]
-            n = m.count * len(anchors) if func_rel.each else m.count
+            n = _room_for(h, m, m.count * len(anchors) if func_rel.each else m.count, anchors)
             on_floor = m.category in st.floor_standing or _is_furniture(m.category)
             for i in range(n):
                 a = anchors[i % len(anchors)]
@@ -169,15 +180,18 @@ def hierarchy_from_spec(
                 if on_wall(h.support[a.id]):  # "a TV beside the painting" hangs beside it
                     h.notes.append(f"on a wall: {nodes[-1].id} by {a.id}")
         else:
-            for _ in range(m.count):
-                support = _default_support(h, st, m.category, rng)
+            for _ in range(_room_for(h, m, m.count)):
+                if len(h) >= MAX_OBJECTS_LIMIT:  # (a holder added for the object took it)
+                    h.notes.append(f"{m.phrase!r}: not all added, {MAX_OBJECTS_LIMIT} objects")
+                    break
+                support = _default_support(h, st, m.category, rng, avoid)
                 siblings = [n for n in h.children(support) if n.id not in h.functional]
                 func = st.functional_choice(
                     h.by_id()[support].category if support != FLOOR else FLOOR,
                     m.category, siblings, rng,
                 )  # fmt: skip
                 nodes.append(h.add(m.category, support, None if func is None else func.id))
-        if sup_rel is not None and func_rel is not None:
+        if sup_rel is not None and func_rel is not None and instances[func_rel.anchor]:
             anchors = instances[func_rel.anchor]
             for i, node in enumerate(nodes):
                 a = anchors[i % len(anchors)]
@@ -193,7 +207,8 @@ def hierarchy_from_spec(
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
         if rs is not None:
             extra = extra_furniture(st, rs, target, [n.category for n in h.nodes], rng)
-            add_floor_furniture(h, [c for c in extra if c not in named], st, rng)
+            extra = [c for c in extra if c not in avoid][: max(0, MAX_OBJECTS_LIMIT - len(h))]
+            add_floor_furniture(h, extra, st, rng)
     elif rs is not None:
         target = int(draw_counted(rs.object_counts, rng))
     else:  # a room the statistics do not know: the named objects and their dependents
@@ -202,8 +217,24 @@ def hierarchy_from_spec(
         )
     if config.max_objects is not None:
         target = min(target, config.max_objects)
-    expand(h, st, max(target, len(h)), rng, config.k, skip=named)
+    target = min(target, MAX_OBJECTS_LIMIT)
+    expand(h, st, max(target, len(h)), rng, config.k, skip=avoid)
     return h.validate()
+
+
+def _room_for(h: Hierarchy, m: Mention, n: int, anchors: list[Node] | None = None) -> int:
+    """How many of the ``n`` objects of ``m`` are added: all while the hierarchy stays within
+    :data:`MAX_OBJECTS_LIMIT` (else as many as fit, with a note); none without anchors (the
+    anchor's own objects were past the limit)."""
+    if anchors is not None and not anchors:
+        return 0
+    room = max(0, MAX_OBJECTS_LIMIT - len(h))
+    if n > room:
+        h.notes.append(
+            f"{m.phrase!r}: {room} of {n} objects added, a scene has at most "
+            f"{MAX_OBJECTS_LIMIT} (MAX_OBJECTS_LIMIT)"
+        )
+    return min(n, room)
 
 
 def _is_furniture(category: str) -> bool:
@@ -231,11 +262,13 @@ def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) 
             f"{m.phrase!r}: {m.category} hang at a window, not relative to {anchors[0].id}"
         )
         anchors = []
-    n = m.count * len(anchors) if anchors and func_rel.each else m.count
+    n = _room_for(h, m, m.count * len(anchors) if anchors and func_rel.each else m.count)
     nodes = []
     for i in range(n):
         a = _root_ancestor(h, anchors[i % len(anchors)]) if anchors else None
         nodes.append(h.add(m.category, WALL, None if a is None else a.id))
+    if not nodes:
+        return nodes
     ids = ", ".join(node.id for node in nodes)
     where = "on walls" if len(nodes) > 1 else "on a wall"
     if window:
@@ -268,8 +301,12 @@ def _beside_wall_object(
     return node
 
 
-def _default_support(h: Hierarchy, st: Statistics, category: str, rng) -> str:
-    """Where an object the text puts nowhere rests (see the module docstring)."""
+def _default_support(
+    h: Hierarchy, st: Statistics, category: str, rng, avoid: frozenset[str] = frozenset()
+) -> str:
+    """Where an object the text puts nowhere rests (see the module docstring); a holder is
+    never of an ``avoid`` category (one the text asks for none of), nor added past
+    :data:`MAX_OBJECTS_LIMIT`."""
     if category in st.floor_standing or category not in st.instances:
         return FLOOR
     rates = []
@@ -281,8 +318,9 @@ def _default_support(h: Hierarchy, st: Statistics, category: str, rng) -> str:
         w = np.array([r for _, r in rates])
         return rates[int(rng.choice(len(rates), p=w / w.sum()))][0].id
     holders = {a: deps[category] for a, deps in st.stats.sup_dep.items()
-               if a != FLOOR and category in deps and a in st.floor_standing}  # fmt: skip
-    if not holders:
+               if a != FLOOR and category in deps and a in st.floor_standing
+               and a not in avoid}  # fmt: skip
+    if not holders or len(h) + 2 > MAX_OBJECTS_LIMIT:
         return FLOOR
     holder = max(sorted(holders), key=holders.get)
     node = h.add(holder, FLOOR)

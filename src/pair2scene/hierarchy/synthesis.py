@@ -16,7 +16,9 @@
    ``floor(rate)`` copies and one more with the remainder's probability: four books per
    shelf stay four). Each added node gets a functional anchor among the objects already
    on the same support with the functional statistics' frequencies, and joins the queue.
-3. **Cap**: at most ``N_max`` objects.
+3. **Cap**: at most ``N_max`` objects, and never more than :data:`MAX_OBJECTS_LIMIT`
+   (``max_objects`` above it is a UserError; a count drawn from statistics of your own
+   above it is cut, with a note).
 
 Modes:
 
@@ -115,15 +117,38 @@ class SynthesisConfig:
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise UserError(f"unknown mode {self.mode!r}; choose one of {', '.join(MODES)}")
-        if self.max_objects is not None and self.max_objects < 1:
-            raise UserError("--max-objects must be >= 1")
+        check_max_objects(self.max_objects)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int | np.integer):
+            raise UserError(f"--seed must be a whole number, got {self.seed!r}")
+        if self.seed < 0:
+            raise UserError(f"--seed must be >= 0, got {self.seed}")
         if not self.k > 0:
             raise UserError("k must be > 0")
 
 
+def check_max_objects(max_objects: int | None) -> None:
+    """A UserError unless ``max_objects`` is None or a whole number from 1 to
+    :data:`MAX_OBJECTS_LIMIT`: every way to a hierarchy (the CLI, :func:`synthesize`,
+    text) is bounded by the limit, not only the command line."""
+    if max_objects is None:
+        return
+    if isinstance(max_objects, bool) or not isinstance(max_objects, int | np.integer):
+        raise UserError(f"--max-objects must be a whole number, got {max_objects!r}")
+    if max_objects < 1:
+        raise UserError("--max-objects must be >= 1")
+    if max_objects > MAX_OBJECTS_LIMIT:
+        raise UserError(
+            f"--max-objects {max_objects}: a scene may have at most {MAX_OBJECTS_LIMIT} objects "
+            f"(MAX_OBJECTS_LIMIT); ask for {MAX_OBJECTS_LIMIT} or fewer"
+        )
+
+
 @lru_cache(maxsize=4)
 def _load_stats(path: str) -> HierarchyStats:
-    return HierarchyStats.from_dict(load_table("hierarchy_stats", path), path)
+    if Path(path) == table_path("hierarchy_stats"):
+        return HierarchyStats.from_dict(load_table("hierarchy_stats", path), path)
+    # a user's file: the bounded reader (size, depth, UTF-8; every problem one line)
+    return HierarchyStats.from_file(path)
 
 
 def load_stats(path: str | Path | None = None) -> HierarchyStats:
@@ -222,6 +247,7 @@ class Statistics:
 
 
 def _stochastic_round(x: float, rng: np.random.Generator) -> int:
+    x = x if x == x else 0.0  # (nan: an infinite k times a zero rate)
     whole = int(np.floor(x))
     return whole + int(rng.random() < x - whole)
 
@@ -281,7 +307,8 @@ def expand(
             candidates = [c for c in stats.dependents(anchor.category) if c[0] not in skip]
             for i in rng.permutation(len(candidates)):
                 cat, rate = candidates[i]
-                for _ in range(_stochastic_round(k * boost * rate, rng)):
+                # (never more copies than the target: a huge k stays a finite count)
+                for _ in range(_stochastic_round(min(k * boost * rate, target), rng)):
                     if len(h) >= target:
                         break
                     siblings = h.children(anchor.id)
@@ -315,6 +342,11 @@ def synthesize(
     if config.mode == "fit":
         if config.max_objects is not None:
             target = min(target, config.max_objects)
+        if target > MAX_OBJECTS_LIMIT:  # (statistics of your own: a room of any count)
+            h.notes.append(
+                f"object count cut from {target} to {MAX_OBJECTS_LIMIT} (MAX_OBJECTS_LIMIT)"
+            )
+            target = MAX_OBJECTS_LIMIT
     else:
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
         template += extra_furniture(st, rs, target, template, rng, config.beyond_load)

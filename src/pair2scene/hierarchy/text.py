@@ -25,13 +25,24 @@ curtains or blinds related to windows hangs at them, one per window ("curtains o
 windows": two). Those mentions are listed in :attr:`TextSpec.on_wall`.
 
 Words that look like objects but are not understood go to :attr:`TextSpec.unparsed`.
+
+Counts: "0 beds", "zero beds", "no beds", "without a TV" ask for none: nothing is
+mentioned, and the category is listed in :attr:`TextSpec.excluded` so that nothing from
+the statistics adds one either. A minus sign before a number ("-5 beds") is refused with
+a one-line :class:`~pair2scene.errors.UserError` (a count must be a positive number);
+a range "3-4 chairs" reads its first number.
+
+Bounds: a description longer than :data:`MAX_TEXT_CHARS` is cut there (at the last word
+break before it) with a note in :attr:`TextSpec.notes` (:func:`limit_text`; the LLM path
+gets the same cut text and note through
+:func:`pair2scene.hierarchy.build.build_hierarchy`).
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Any
 
@@ -103,6 +114,12 @@ class TextSpec:
     wall-mounted TV", "curtains on the windows"), in order of appearance. A mention here
     has no support relation; it may have a functional one ("a TV on the wall opposite the
     sofa")."""
+    excluded: tuple[str, ...] = ()
+    """Categories the text asks for none of ("no desk", "0 beds", "without a TV"; a generic
+    noun, "no lamps", every category it covers) and names nowhere else: the statistics add
+    none of them."""
+    notes: tuple[str, ...] = ()
+    """What was done to the text before it was read (cut at :data:`MAX_TEXT_CHARS`)."""
 
 
 # -- tables ---------------------------------------------------------------------------------
@@ -490,6 +507,13 @@ def _lexicon() -> _Lexicon:
     return _Lexicon(lex, max(len(key) for key in lex), starts)
 
 
+def _number(digits: str) -> int:
+    """A run of digits as a count; a run longer than 9 digits counts as 10**9 (any count is
+    capped far below; Python refuses to read runs of over 4300 digits)."""
+    digits = digits.lstrip("0") or "0"
+    return int(digits) if len(digits) <= 9 else 10**9
+
+
 def _tokens(text: str) -> list[_Tok]:
     """Greedy longest-match tokens; a word nothing matches is UNK, digits are NUM."""
     lex = _lexicon()
@@ -513,7 +537,7 @@ def _tokens(text: str) -> list[_Tok]:
                 break
         if entry is None:
             word = words[i][0]
-            entry = (NUM, int(word)) if word.isdigit() else (UNK, word)
+            entry = (NUM, _number(word)) if word.isdigit() else (UNK, word)
         toks.append(_Tok(entry[0], entry[1], words[i][1], words[i + n - 1][2]))
         i += n
     return toks
@@ -716,6 +740,8 @@ class _Parser:
     last: str | None = None
     last_each: bool = False
     negated: bool = False
+    excluded: list[str] = field(default_factory=list)
+    """Categories of negated phrases ("no desk", "0 beds"), in order."""
     pending: _Cue | None = None
     features: dict[str, _NP] = field(default_factory=dict)
     """The latest phrase naming each of :data:`_FEATURES` ("the windows")."""
@@ -746,7 +772,9 @@ class _Parser:
         )
         on_wall = tuple(ref for ref, o in self.objects.items() if o.wall)
         unparsed = tuple(dict.fromkeys(self.unparsed))
-        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall)
+        named = {m.category for m in mentions}
+        excluded = tuple(c for c in dict.fromkeys(self.excluded) if c not in named)
+        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall, excluded)
 
     # -- elements
 
@@ -776,6 +804,7 @@ class _Parser:
     def _item(self, np: _NP) -> None:
         """A list item: a new or referred-to object, related to the open list's head."""
         if self.negated or np.det == NEG:
+            self._exclude(np)
             return
         cue = self.stack[-1].cue
         ref, _ = self._refer(
@@ -785,6 +814,15 @@ class _Parser:
         if ref in self.objects:
             self.group.append(ref)
             self._implicit(ref)
+
+    def _exclude(self, np: _NP) -> None:
+        """A negated phrase ("no desk", "0 beds", "without a TV"): none of its object."""
+        if np.noun is None:
+            return
+        if np.noun.kind == OBJECT:
+            self.excluded.append(np.noun.value)
+        elif np.noun.kind == GENERIC:
+            self.excluded.extend(GENERIC_NOUNS[np.noun.value])
 
     def _item_pronoun(self, pron: _Pron) -> None:
         """ "It has ...", "one on each side": a list item that refers back."""
@@ -1141,20 +1179,53 @@ MAX_TEXT_CHARS = 2000
 """A description longer than this is cut here (with a note): a room's description is a
 few sentences, and the parser's work and the objects it names grow with the text."""
 
+_NEGATIVE_COUNT = re.compile(r"(?<![\w\-−])[-−]\d+(?:[.,]\d+)?(?:\s+[^\W\d_]+)?")
+"""A minus sign right before a number ("-5 beds"), not a range ("3-4 chairs") or a
+list's dash ("- 2 chairs"), with the word after it."""
+
+
+def limit_text(text: str) -> tuple[str, list[str]]:
+    """A room description as it is read, and notes on what was done to it: cut at
+    :data:`MAX_TEXT_CHARS` characters (at the last word break before, leading white space
+    first dropped). A UserError for an empty text and for a negative count ("-5 beds":
+    a count must be a positive number). The one gate of every text, the offline
+    parser's (:func:`parse_text`) and the LLM's."""
+    if not isinstance(text, str) or not text.strip():
+        raise UserError("the room description is empty")
+    notes = []
+    body = text.lstrip()
+    if len(body) > MAX_TEXT_CHARS:
+        cut = body[:MAX_TEXT_CHARS]
+        space = max(cut.rfind(" "), cut.rfind("\n"), cut.rfind("\t"))
+        cut = cut[:space] if space > MAX_TEXT_CHARS // 2 else cut
+        notes.append(
+            f"the description was cut at {len(cut)} of its {len(body)} characters "
+            f"(MAX_TEXT_CHARS {MAX_TEXT_CHARS}): the rest was not read"
+        )
+        text = cut
+    negative = _NEGATIVE_COUNT.search(text)
+    if negative is not None:
+        raise UserError(
+            f"{negative.group()!r} in the description: a count must be a positive number "
+            "(write '0 ...' or 'no ...' for none)"
+        )
+    return text, notes
+
 
 def parse_text(text: str) -> TextSpec:
     """The room type, requested objects and their relations in a room description.
 
-    Raises :class:`~pair2scene.errors.UserError` when the text is empty or names neither a
-    room type nor any known object; words it does not understand otherwise only end up in
-    :attr:`TextSpec.unparsed`.
+    Raises :class:`~pair2scene.errors.UserError` when the text is empty, has a negative
+    count or names neither a room type nor any known object; words it does not understand
+    otherwise only end up in :attr:`TextSpec.unparsed`. A text longer than
+    :data:`MAX_TEXT_CHARS` is read up to there (:func:`limit_text`, a note in
+    :attr:`TextSpec.notes`).
     """
-    if not text or not text.strip():
-        raise UserError("the room description is empty")
+    text, notes = limit_text(text)
     elements = _elements(text, _tokens(text))
     parser = _Parser(_named_room(elements))
     parser.run(elements)
-    spec = parser.spec(text)
+    spec = replace(parser.spec(text), notes=tuple(notes))
     if spec.room_type is None and not spec.mentions:
         shown = " ".join(text.split())
         shown = shown if len(shown) <= 60 else shown[:57] + "..."

@@ -19,8 +19,15 @@ it is placed relative to (``functional``: an object on the same support, optiona
 
 :meth:`Hierarchy.validate` checks everything a placement relies on and raises a
 :class:`HierarchyError` (a one-line :class:`UserError`) naming the problem: unknown or
-structural categories, duplicate ids, missing or cyclic supports, functional anchors on
-another support, cyclic functional anchors.
+structural categories, duplicate ids, missing or cyclic supports, chains of more than
+:data:`MAX_SUPPORT_DEPTH` objects standing on each other, functional anchors on another
+support, cyclic functional anchors. Validation and the orders are linear in the number of
+nodes.
+
+A hierarchy file (:meth:`Hierarchy.from_dict`, ``pair2scene hierarchy --file``) may hold
+at most :data:`MAX_NODES` nodes, ids, categories and the room type of at most
+:data:`MAX_ID_CHARS` characters; the file itself is read by
+:func:`pair2scene.io.jsondoc.read_json_file` (at most 64 MiB, 64 levels of nesting).
 """
 
 from __future__ import annotations
@@ -35,6 +42,12 @@ from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall, wall_index
 
 HIERARCHY_FORMAT = "pair2scene.hierarchy"
 HIERARCHY_VERSION = 1
+MAX_NODES = 2000
+"""Nodes a hierarchy file may hold (four times the most objects a scene may be asked for)."""
+MAX_ID_CHARS = 200
+"""Characters a node id, a category or a room type of a hierarchy file may have."""
+MAX_SUPPORT_DEPTH = 32
+"""Objects that may stand on each other in one chain (floor -> table -> tray -> cup is 3)."""
 NOT_OBJECTS = (SuperCategory.STRUCTURE, SuperCategory.PART)
 """Super-categories that are never nodes: the room itself, and parts of furniture (the
 generator builds drawers and shelves with their owner)."""
@@ -162,14 +175,24 @@ class Hierarchy:
                 raise HierarchyError(f"node {n.id!r} rests on {parent!r}, which is not a node")
             if parent == n.id:
                 raise HierarchyError(f"node {n.id!r} rests on itself")
+        depth: dict[str, int] = {}  # node id -> objects in its chain of supports
         for n in self.nodes:  # grounded: every chain of supports reaches the floor or a wall
-            chain, at = [n.id], self.support[n.id]
-            while not is_root(at):
+            chain, at = {n.id: None}, self.support[n.id]
+            while not is_root(at) and at not in depth:
                 if at in chain:
-                    cycle = " -> ".join([*chain[chain.index(at) :], at])
+                    ids = list(chain)
+                    cycle = " -> ".join([*ids[ids.index(at) :], at])
                     raise HierarchyError(f"support cycle: {cycle} (never reaches the floor)")
-                chain.append(at)
+                chain[at] = None
                 at = self.support[at]
+            base = 0 if is_root(at) else depth[at]
+            for k, node_id in enumerate(reversed(chain)):
+                depth[node_id] = base + k + 1
+            if depth[n.id] > MAX_SUPPORT_DEPTH:
+                raise HierarchyError(
+                    f"node {n.id!r} tops a stack of {depth[n.id]} objects resting on each "
+                    f"other: at most {MAX_SUPPORT_DEPTH} may"
+                )
         for node_id, anchor in self.functional.items():
             if anchor == node_id:
                 raise HierarchyError(f"node {node_id!r} is its own functional anchor")
@@ -184,14 +207,17 @@ class Hierarchy:
                     f"anchor {anchor!r} rests on {self.support[anchor]!r}: a functional "
                     "anchor must share the support"
                 )
+        acyclic: set[str] = set()  # ids whose chain of functional anchors ends
         for node_id in self.functional:
-            chain, at = [node_id], self.functional[node_id]
-            while at in self.functional:
+            chain, at = {node_id: None}, self.functional[node_id]
+            while at in self.functional and at not in acyclic:
                 if at in chain:
-                    cycle = " -> ".join([*chain[chain.index(at) :], at])
+                    ids = list(chain)
+                    cycle = " -> ".join([*ids[ids.index(at) :], at])
                     raise HierarchyError(f"functional cycle: {cycle}")
-                chain.append(at)
+                chain[at] = None
                 at = self.functional[at]
+            acyclic.update(chain)
         return self
 
     # -- trees and order ------------------------------------------------------------------
@@ -202,34 +228,50 @@ class Hierarchy:
         walls = {s for s in self.support.values() if on_wall(s)}
         return [FLOOR, *sorted(walls, key=lambda w: (wall_index(w) or -1, w))]
 
+    def _children_map(self) -> dict[str, list[Node]]:
+        """parent id -> the nodes resting on it, in insertion order (:meth:`children` for
+        every parent at once)."""
+        out: dict[str, list[Node]] = {}
+        for n in self.nodes:
+            parent = self.support.get(n.id)
+            if parent is not None:
+                out.setdefault(parent, []).append(n)
+        return out
+
     def support_edges(self) -> list[tuple[str, str]]:
         """(parent, child) edges of the support tree, breadth-first from the roots."""
+        below = self._children_map()
         out, queue = [], deque(self.roots())
         while queue:
             parent = queue.popleft()
-            for child in self.children(parent):
+            for child in below.get(parent, ()):
                 out.append((parent, child.id))
                 queue.append(child.id)
         return out
 
     def functional_tree(self, support: str) -> FunctionalTree:
         """The functional tree rooted at ``support`` (see the module docstring)."""
-        edges = tuple((self.functional.get(n.id, support), n.id) for n in self.children(support))
+        return self._functional_tree(support, self.children(support))
+
+    def _functional_tree(self, support: str, children: Iterable[Node]) -> FunctionalTree:
+        edges = tuple((self.functional.get(n.id, support), n.id) for n in children)
         return FunctionalTree(support, edges)
 
     def functional_trees(self) -> list[FunctionalTree]:
         """One tree per support that has dependents, in breadth-first support order."""
+        below = self._children_map()
         supports = [*self.roots(), *(child for _, child in self.support_edges())]
-        return [self.functional_tree(s) for s in supports if self.children(s)]
+        return [self._functional_tree(s, below[s]) for s in supports if below.get(s)]
 
     def sequence(self) -> list[SequenceItem]:
         """The placement order: BFS over supports, DFS over each functional tree."""
         by_id = self.by_id()
+        children = self._children_map()
         out: list[SequenceItem] = []
         queue = deque(self.roots())
         while queue:
             support = queue.popleft()
-            tree = self.functional_tree(support)
+            tree = self._functional_tree(support, children.get(support, ()))
             below: dict[str, list[str]] = {}
             for anchor, dep in tree.edges:
                 if self.support.get(anchor) != support:  # a floor anchor of a wall object
@@ -289,24 +331,61 @@ class Hierarchy:
         """Read :meth:`to_dict`'s ``nodes`` + ``support_tree`` + ``functional_trees`` (the
         sequence is derived, never read) and validate."""
         try:
-            nodes = [Node(str(n["id"]), str(n["category"])) for n in doc["nodes"]]
-            h = cls(str(doc.get("room_type") or "other"), nodes)
-            for e in doc["support_tree"]["edges"]:
-                h.support[str(_ref_id(e["child"]))] = str(_ref_id(e["parent"]))
-            for t in doc.get("functional_trees", []):
-                root = str(_ref_id(t["support_anchor"]))
+            raw = doc["nodes"]
+            edges = doc["support_tree"]["edges"]
+            trees = doc.get("functional_trees", [])
+            for name, items in (("nodes", raw), ("support_tree.edges", edges)):
+                if not isinstance(items, list):
+                    raise TypeError(f"{name} is not a list")
+                if len(items) > MAX_NODES:
+                    raise HierarchyError(
+                        f"{where}: {len(items)} {name}, more than the {MAX_NODES} a hierarchy "
+                        "may hold"
+                    )
+            if not isinstance(trees, list):
+                raise TypeError("functional_trees is not a list")
+            nodes = [Node(_text(n["id"]), _text(n["category"])) for n in raw]
+            h = cls(_text(doc.get("room_type") or "other"), nodes)
+            for e in edges:
+                h.support[_text(_ref_id(e["child"]))] = _text(_ref_id(e["parent"]))
+            functional = 0
+            for t in trees:
+                root = _text(_ref_id(t["support_anchor"]))
+                functional += len(t["edges"])
+                if functional > MAX_NODES:
+                    raise HierarchyError(
+                        f"{where}: more than {MAX_NODES} functional edges, the most a "
+                        "hierarchy may hold"
+                    )
                 for e in t["edges"]:
-                    anchor, dep = str(_ref_id(e["anchor"])), str(_ref_id(e["dependent"]))
+                    anchor, dep = _text(_ref_id(e["anchor"])), _text(_ref_id(e["dependent"]))
                     if anchor != root:
                         h.functional[dep] = anchor
-        except (KeyError, TypeError, AttributeError) as e:
-            msg = f"{where}: malformed hierarchy ({type(e).__name__}: {e})"
+        except (KeyError, TypeError, AttributeError, ValueError) as e:
+            msg = f"{where}: malformed hierarchy ({type(e).__name__}: {_short(str(e))})"
             raise HierarchyError(msg) from None
         return h.validate()
 
 
 def _ref_id(ref) -> str:
     return ref["id"] if isinstance(ref, Mapping) else ref
+
+
+def _text(value) -> str:
+    """An id, category or room type of a hierarchy file: a string (numbers are taken as
+    their text) of at most :data:`MAX_ID_CHARS` characters."""
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise TypeError(f"expected a string, got {type(value).__name__}")
+    text = str(value)
+    if len(text) > MAX_ID_CHARS:
+        raise ValueError(f"{len(text)} characters, more than {MAX_ID_CHARS}: {_short(text)}")
+    return text
+
+
+def _short(text: str, most: int = 60) -> str:
+    """``text`` on one line, cut to ``most`` characters."""
+    text = repr(text)[1:-1]
+    return text if len(text) <= most else text[: most - 3] + "..."
 
 
 def object_categories() -> list[str]:

@@ -1,9 +1,17 @@
-"""Atomic file writes: write to a temporary file beside the target, then rename."""
+"""Atomic file writes: write to a temporary file beside the target, then rename.
+
+The temporary file is ``.<name>.<random>.tmp`` beside ``<name>`` (hidden, so no reader of
+a folder takes it for a result). An exception removes it; a process killed while writing
+(SIGKILL, a power cut) cannot, and :func:`remove_stale_temporaries` removes what such a
+write left, by that name pattern only, when the writer next starts.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -18,9 +26,9 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=TEMP_SUFFIX)
     try:
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give what open() would
+        os.chmod(tmp, 0o666 & ~current_umask())  # mkstemp makes 0600; give what open() would
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
             fh.flush()
@@ -32,10 +40,45 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
         raise
 
 
-def _umask() -> int:
+TEMP_SUFFIX = ".tmp"
+_RANDOM = "[a-z0-9_]+"
+"""What :mod:`tempfile` puts in its names (8 of these characters)."""
+
+
+def current_umask() -> int:
+    """The process's umask (read by setting it and back)."""
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+_umask = current_umask
+
+
+def is_temporary(name: str, target: str) -> bool:
+    """Whether the file name ``name`` is one :func:`atomic_open` gives a temporary file of
+    ``target`` (a file name): ``.<target>.<random>.tmp``."""
+    pattern = rf"\.{re.escape(target)}\.{_RANDOM}{re.escape(TEMP_SUFFIX)}"
+    return re.fullmatch(pattern, name) is not None
+
+
+def remove_stale_temporaries(folder: str | os.PathLike, target: str) -> list[str]:
+    """Remove the temporary files an interrupted :func:`atomic_open` of ``folder/target``
+    left (regular files named by :func:`is_temporary`, nothing else); returns their names.
+    Call it only while no other process writes ``target`` there."""
+    removed = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    for entry in entries:
+        if not is_temporary(entry.name, target):
+            continue
+        with contextlib.suppress(OSError):
+            if stat.S_ISREG(entry.stat(follow_symlinks=False).st_mode):
+                os.unlink(entry.path)
+                removed.append(entry.name)
+    return removed
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> None:

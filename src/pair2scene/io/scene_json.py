@@ -9,6 +9,26 @@ another object's id. ``wall`` alone (a hierarchy's "wall not chosen yet") and an
 ``wall:...`` are errors. The room keeps its polygon counter-clockwise: a clockwise
 ``floor_polygon`` is reversed on reading and every ``wall:<i>`` is renumbered to name the
 same edge, so a file written back names its walls in the counter-clockwise order.
+
+Physical limits (README, "scene.json"), the same for ``validate``, ``--keep`` and every
+reader of scene folders, so that no value a reader accepts can overflow, stall or warn
+further on:
+
+- every coordinate (object centres, floor polygon vertices, door and window end points,
+  their ``z_min`` / ``z_max``) is a finite number with ``|value| <=`` :data:`MAX_COORD_M`
+  (100 m);
+- every size (object ``size``, room ``height``) is finite, > 0 and ``<=``
+  :data:`MAX_SIZE_M` (100 m); the floor polygon spans at most :data:`MAX_SIZE_M` along x
+  and along y;
+- the floor polygon has at most :data:`MAX_FLOOR_VERTICES` (1,000) vertices, the room at
+  most :data:`MAX_OPENINGS` (1,000) doors and as many windows, the scene at most
+  :data:`MAX_OBJECTS` (10,000) objects;
+- ids, categories, supports, labels, the room type and every other string field have at
+  most :data:`MAX_TEXT` (200) characters;
+- the file has at most :data:`MAX_SCENE_BYTES` (64 MiB), nests at most 64 levels (the
+  free-form ``stats`` included) and is UTF-8 (:func:`pair2scene.io.jsondoc.read_json_file`).
+
+Counts are checked before their items, so an oversized file is refused at once.
 """
 
 from __future__ import annotations
@@ -26,6 +46,7 @@ import numpy as np
 from pair2scene.categories import BY_NAME, UNKNOWN
 from pair2scene.errors import SceneFileError
 from pair2scene.io.atomic import atomic_write_text
+from pair2scene.io.jsondoc import MAX_JSON_BYTES, JsonFileError, read_json_file
 from pair2scene.scene.geometry import OrientedBox, is_rotation, polygon_area
 from pair2scene.scene.model import (
     FLOOR,
@@ -50,6 +71,20 @@ MIN_FLOOR_AREA = 1e-4
 MIN_WALL_LENGTH = 1e-3
 """m; an edge of the floor polygon shorter than this (a repeated vertex) is no wall an
 object can hang on (:func:`pair2scene.scene.walls.walls_of` leaves it out too)."""
+MAX_COORD_M = 100.0
+"""m; the largest |coordinate| a scene.json may hold (centres, vertices, openings)."""
+MAX_SIZE_M = 100.0
+"""m; the largest object size, room height and floor polygon extent."""
+MAX_FLOOR_VERTICES = 1000
+"""Vertices a floor polygon may have (real rooms have 4 to a few dozen)."""
+MAX_OPENINGS = 1000
+"""Doors a room may have, and windows."""
+MAX_OBJECTS = 10_000
+"""Objects a scene may have (generated rooms have up to a few hundred)."""
+MAX_TEXT = 200
+"""Characters an id, a category, a support, a label or any other string field may have."""
+MAX_SCENE_BYTES = MAX_JSON_BYTES
+"""Bytes a scene.json may have (64 MiB)."""
 _WALL_SUPPORT = re.compile(r"wall:(0|[1-9][0-9]*)", re.ASCII)
 """The one spelling of a wall support: ``wall:<i>``, i a decimal without leading zeros."""
 
@@ -165,19 +200,31 @@ class _Check:
             return None
         if not isinstance(v, str) or not v:
             raise self.fail(field, f"must be a non-empty string, got {_kind(v)}")
+        if len(v) > MAX_TEXT:
+            raise self.fail(field, f"has {len(v)} characters, more than {MAX_TEXT}")
         return v
 
     def number(self, v: Any, field: str, positive: bool = False) -> float:
+        """A finite number: a size (``positive``: > 0 and <= MAX_SIZE_M m) or a coordinate
+        (|v| <= MAX_COORD_M m)."""
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not _finite(v):
             raise self.fail(field, f"must be a finite number, got {_kind(v)}")
         if positive and v <= 0:
             raise self.fail(field, f"must be > 0, got {v}")
+        if positive and v > MAX_SIZE_M:
+            raise self.fail(field, f"must be <= {MAX_SIZE_M:g} m, got {v:g}")
+        if abs(v) > MAX_COORD_M:
+            raise self.fail(field, f"must be within +-{MAX_COORD_M:g} m, got {v:g}")
         return float(v)
 
     def vector(self, v: Any, n: int, field: str, positive: bool = False) -> np.ndarray:
         if not isinstance(v, list) or len(v) != n:
             raise self.fail(field, f"must be a list of {n} numbers, got {_kind(v)}")
         return np.array([self.number(x, f"{field}[{i}]", positive) for i, x in enumerate(v)])
+
+    def count(self, v: list, most: int, field: str, what: str) -> None:
+        if len(v) > most:
+            raise self.fail(field, f"has {len(v)} {what}, more than {most:,}")
 
     def matrix(self, v: Any, field: str) -> np.ndarray:
         if not isinstance(v, list) or len(v) != 3:
@@ -236,7 +283,14 @@ def _room(c: _Check, d: Any) -> Room:
         raise c.fail(
             "room.floor_polygon", f"must list at least 3 [x, y] points, got {_kind(poly_raw)}"
         )
+    c.count(poly_raw, MAX_FLOOR_VERTICES, "room.floor_polygon", "vertices")
     poly = np.stack([c.vector(p, 2, f"room.floor_polygon[{i}]") for i, p in enumerate(poly_raw)])
+    extent = poly.max(axis=0) - poly.min(axis=0)
+    if extent.max() > MAX_SIZE_M:
+        axis = "xy"[int(np.argmax(extent))]
+        raise c.fail(
+            "room.floor_polygon", f"spans {extent.max():g} m along {axis}, more than {MAX_SIZE_M:g}"
+        )
     if abs(polygon_area(poly)) < MIN_FLOOR_AREA:
         raise c.fail("room.floor_polygon", "has no area (collinear or repeated points)")
     height = c.number(c.req(d, "height", "room"), "room.height", positive=True)
@@ -245,6 +299,7 @@ def _room(c: _Check, d: Any) -> Room:
         raw = d.get(key, [])
         if not isinstance(raw, list):
             raise c.fail(f"room.{key}", f"must be a list, got {_kind(raw)}")
+        c.count(raw, MAX_OPENINGS, f"room.{key}", key)
         openings[key] = tuple(_opening(c, o, kind, f"room.{key}[{i}]") for i, o in enumerate(raw))
     return Room(rtype, poly, height, openings["doors"], openings["windows"])
 
@@ -257,6 +312,8 @@ def _asset(c: _Check, d: Any, field: str) -> AssetRef | None:
     aid = d.get("id")
     if aid is not None and not isinstance(aid, str):
         raise c.fail(f"{field}.id", f"must be a string or null, got {_kind(aid)}")
+    if aid is not None and len(aid) > MAX_TEXT:
+        raise c.fail(f"{field}.id", f"has {len(aid)} characters, more than {MAX_TEXT}")
     style = d.get("style")
     if style is not None and (isinstance(style, bool) or not isinstance(style, int)):
         raise c.fail(f"{field}.style", f"must be an integer or null, got {_kind(style)}")
@@ -327,13 +384,16 @@ def _links(c: _Check, objects: list[SceneObject], polygon: np.ndarray) -> None:
             if ref not in ids:
                 raise c.fail(f"objects[{i}].{key}", f"refers to unknown object {ref!r}")
     parent = {o.id: o.support for o in objects}
+    grounded: set[str] = set()  # ids whose chain of supports ends at the floor or a wall
     for i, o in enumerate(objects):
-        seen, cur = {o.id}, o.support
-        while cur is not None and not is_root(cur):  # the floor and walls end a chain
-            if cur in seen:
+        chain: dict[str, None] = {}
+        cur: str | None = o.id
+        while cur is not None and not is_root(cur) and cur not in grounded:
+            if cur in chain:
                 raise c.fail(f"objects[{i}].support", f"support cycle through {o.id!r}")
-            seen.add(cur)
+            chain[cur] = None
             cur = parent[cur]
+        grounded.update(chain)
 
 
 def _renumber_walls(objects: list[SceneObject], n: int) -> list[SceneObject]:
@@ -366,6 +426,7 @@ def scene_from_dict(d: Any, origin: str = "<scene>") -> Scene:
     raw = c.req(d, "objects", "")
     if not isinstance(raw, list):
         raise c.fail("objects", f"must be a list, got {_kind(raw)}")
+    c.count(raw, MAX_OBJECTS, "objects", "objects")
     objects, seen = [], set()
     for i, od in enumerate(raw):
         o = _object(c, od, f"objects[{i}]")
@@ -402,25 +463,7 @@ def read_scene(path: str | os.PathLike) -> Scene:
     """Read and validate a scene.json; any problem raises one SceneFileError."""
     origin = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SceneFileError(origin, "(file)", "no such file") from None
-    except IsADirectoryError:
-        raise SceneFileError(origin, "(file)", "is a directory, not a scene.json") from None
-    except UnicodeDecodeError as e:
-        raise SceneFileError(origin, "(file)", f"not UTF-8 text (byte {e.start})") from None
-    except OSError as e:
-        raise SceneFileError(origin, "(file)", e.strerror or str(e)) from None
-    if not text.strip():
-        raise SceneFileError(origin, "(file)", "is empty")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise SceneFileError(
-            origin, "(json)", f"{e.msg} at line {e.lineno} column {e.colno}"
-        ) from None
-    except RecursionError:
-        raise SceneFileError(origin, "(json)", "nested too deeply") from None
-    except ValueError as e:  # e.g. an integer literal over Python's 4300-digit limit
-        raise SceneFileError(origin, "(json)", str(e).splitlines()[0]) from None
+        data = read_json_file(path, "scene.json", MAX_SCENE_BYTES, finite=False)
+    except JsonFileError as e:  # numbers are checked field by field, naming the field
+        raise SceneFileError(origin, e.field, e.problem) from None
     return scene_from_dict(data, origin)

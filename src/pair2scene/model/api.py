@@ -50,6 +50,7 @@ from pair2scene.model.layout import (
 from pair2scene.model.layout import LayoutVariant as Variant
 from pair2scene.model.mixture import (
     BOX_DIM,
+    InvalidDistribution,
     MixtureParams,
     Window,
     condition,
@@ -422,17 +423,29 @@ class LayoutModel:
         """:meth:`sample`'s candidates, and the probability that the model (at this
         temperature) puts a candidate's centre over ``query.region`` (1.0 without one):
         its draws are confined there (:class:`~pair2scene.model.mixture.Window`), so
-        ``1 - p`` is the share it would have spent where the placer rejects them."""
+        ``1 - p`` is the share it would have spent where the placer rejects them.
+
+        A checkpoint whose distributions cannot be drawn from (finite but extreme
+        weights) raises :class:`~pair2scene.model.mixture.InvalidDistribution`, a one-line
+        :class:`~pair2scene.errors.UserError` naming its folder."""
         params, factors = self.distribution([query])
         if keep_size:
             params = self.condition_on_size(params, [query], factors)
-        window, mass = None, 1.0
-        if query.region is not None and temperature > 0:
-            window = self._window(query, factors[0], params.loc.dtype)
-            mass = float(window_log_mass(params, window, temperature).exp()[0])
-        y = sample(params, n, temperature, generator, window)[0]  # (n, 12) mixture space
-        x = self.predictor.from_mixture_space(y).double().numpy()
-        return self.to_world(x, query, factors[0]), mass
+        try:
+            window, mass = None, 1.0
+            if query.region is not None and temperature > 0:
+                window = self._window(query, factors[0], params.loc.dtype)
+                mass = float(window_log_mass(params, window, temperature).exp()[0])
+            y = sample(params, n, temperature, generator, window)[0]  # (n, 12) mixture space
+            x = self.predictor.from_mixture_space(y).double().numpy()
+            with np.errstate(over="ignore", invalid="ignore"):
+                boxes = self.to_world(x, query, factors[0])
+            if not np.isfinite(boxes).all():
+                raise InvalidDistribution("non-finite boxes")
+        except InvalidDistribution as e:
+            source = self.checkpoint.path or "the loaded checkpoint"
+            raise e.named(source) from None
+        return boxes, mass
 
     def _window(self, query: PlacementQuery, factor: np.ndarray, dtype) -> Window:
         """``query.region``'s footprint as bounds on the mixture's centre x and y: the

@@ -9,24 +9,103 @@ A checkpoint is a folder::
 
 Loading never executes anything from the files: JSON is parsed, tensors are read by
 safetensors. Every way a checkpoint can be wrong (missing, truncated, another format,
-weights that do not fit the config) is a one-line :class:`UserError`.
+a config out of range, weights that do not fit the config) is a one-line
+:class:`UserError` naming the file and, for config.json, the field
+(``<folder>/config.json: bad model config: layout.depth: must be at most 64, got 100000
+(over the limit)``).
+
+What :func:`load_checkpoint` checks, in this order (nothing is allocated before the
+weights are known to fit a model of bounded size)
+----------------------------------------------------------------------------------
+
+1. config.json: a regular file of at most 64 MiB, JSON without NaN / Infinity, ``format``
+   ``pair2scene.layout``, ``version`` the integer 1 (:func:`read_config`).
+2. Every field of the config (:func:`check_model_config`), against the table below:
+   integers must be JSON integers (``4.0`` and ``true`` are not), numbers finite, flags
+   ``true`` / ``false``, names one of the listed choices. Fields of ``layout``,
+   ``layout.mixture`` and ``encoder`` are all required (except the two that older
+   checkpoints lack: ``layout.anchor_frames``, read as false, and
+   ``layout.mixture.yaw_modes``, read as 1) and an unknown field there is refused: it
+   would change the network this version builds, so the weights would not mean what they
+   meant. Unknown top-level keys are ignored (they describe, they do not build);
+   ``training`` is free-form but must be an object.
+3. The parameter count of the network the config describes, counted on a skeleton built
+   on torch's meta device (no memory): at most :data:`MAX_PARAMETERS` (200 M; the
+   ``paper`` preset has ~55 M, ``cpu`` ~2.2 M), else refused naming the fields of the
+   largest part.
+4. ``weights``: a plain file name inside the folder (no path), a regular file (not a
+   pipe or a device), a safetensors header whose tensor names, shapes and floating-point
+   dtypes are exactly the skeleton's (missing, extra or mis-shaped tensors are refused
+   before any tensor is read).
+5. The tensors: finite, and no weight beyond :data:`MAX_ABS_WEIGHT` (1e4; a trained
+   model's are O(1), the bundled one's largest is ~2) in magnitude. They are then loaded
+   into the skeleton (``assign=True``: no second copy, no initialisation).
+
+Sampling a loaded model guards the rest (:func:`pair2scene.model.mixture.check_params`):
+weights that pass 5 but still give NaN or absurd distributions are a one-line
+:class:`~pair2scene.model.mixture.InvalidDistribution` naming the folder.
+
+Ranges of config.json (every bound inclusive unless written ``<``; presets for scale:
+``cpu`` / ``paper``)::
+
+    layout.width, layout.point_dim          1 .. 4096      (128 / 512, 128 / 384)
+    layout.depth                            1 .. 64        (4 / 7)
+    layout.heads                            1 .. 64, divides width
+    layout.queries                          1 .. 64        (4 / 4)
+    layout.mlp_ratio                        1 .. 16        (4)
+    layout.n_categories                     len(CATEGORY_VOCAB) (123 today) .. 4096
+    layout.dropout                          0 .. < 1
+    layout.variant                          full | class-only | no-pretrain | global
+    layout.finetune_encoder, .anchor_frames true | false
+    layout.mixture.num_components           1 .. 256       (8 / 4)
+    layout.mixture.dim                      12
+    layout.mixture.min_log_scale            -20 .. 20, < max_log_scale   (-7)
+    layout.mixture.max_log_scale            -20 .. 20      (5)
+    layout.mixture.entropy_weight           0 .. 100       (0.01)
+    layout.mixture.entropy_regulariser      bonus | penalty
+    layout.mixture.rotation_base            true | false
+    layout.mixture.yaw_modes                1 | 2 | 4
+    encoder.n_points                        1 .. 16384     (2048 / 8192)
+    encoder.n_groups                        1 .. 512, <= n_points         (32 / 256)
+    encoder.group_size                      1 .. 256, <= n_points         (64 / 32)
+    encoder.width, .pointnet_hidden, .pos_hidden   1 .. 4096
+    encoder.depth                           1 .. 64        (4 / 12)
+    encoder.decoder_depth                   0 .. 64
+    encoder.heads, .decoder_heads           1 .. 64, divide width
+    encoder.mlp_ratio                       > 0 .. 16, width * mlp_ratio >= 1
+    encoder.mask_ratio, .dropout            0 .. < 1
+    n_groups * group_size * 4 * pointnet_hidden   <= 2**26 (the mini-PointNet's
+                                            activations per cloud; paper: 2**23)
+    encoder.width                           = layout.point_dim (variants with points)
+    encoder                                 an object; null only for class-only
+    n_points                                max(n_groups, group_size) .. 16384
+    variant                                 = layout.variant
+    preset                                  a string of at most 64 characters
+    weights                                 a file name (default model.safetensors)
+    min_anchor_half_m                       0.05 (this version's)
+    training                                an object (or null)
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import math
+import os
+import stat
 from enum import Enum
 from pathlib import Path
+from typing import Any
 
 import torch
 
+from pair2scene.curation.dataset import CATEGORY_VOCAB
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_bytes, atomic_write_text
 from pair2scene.io.jsondoc import read_json_document
 from pair2scene.model.features import MIN_ANCHOR_HALF_M
 from pair2scene.model.layout import LayoutConfig, LayoutPredictor, LayoutVariant
-from pair2scene.model.mixture import EntropyRegulariser, MixtureConfig
+from pair2scene.model.mixture import BOX_DIM, EntropyRegulariser, MixtureConfig
 from pair2scene.model.pointmae import PointMAEConfig, PointMAEEncoder
 
 FORMAT = "pair2scene.layout"
@@ -37,6 +116,47 @@ DEFAULT_DIR = Path(__file__).parent / "default"
 """The bundled default model (``cpu`` preset, ``full``), shipped inside the package."""
 DEFAULT_ENCODER_DIR = DEFAULT_DIR / "encoder"
 """The bundled pre-trained Point-MAE encoder (``cpu`` preset) that ``full`` starts from."""
+
+# -- limits (the module docstring's table) --------------------------------------------------
+MAX_PARAMETERS = 200_000_000
+"""Parameters (predictor and encoder) a checkpoint may describe: 200 M, 800 MB of float32,
+nearly four times the ``paper`` preset's ~55 M. Counted before anything is allocated."""
+MAX_WIDTH = 4096
+"""Largest token width or hidden size (``paper``: 512)."""
+MAX_DEPTH = 64
+"""Most transformer blocks of the predictor or the encoder (``paper``: 7 and 12)."""
+MAX_HEADS = 64
+"""Most attention heads."""
+MAX_QUERIES = 64
+"""Most query tokens per member (the paper: 4)."""
+MAX_MLP_RATIO = 16
+"""Largest hidden width of a block's MLP, in multiples of the width (4 everywhere)."""
+MAX_CATEGORIES = 4096
+"""Most rows of the category embedding (at least the vocabulary's, 123 today)."""
+MAX_COMPONENTS = 256
+"""Most mixture components K (``cpu``: 8; the paper: 4)."""
+MAX_POINTS = 16384
+"""Most points per cloud (the paper: 8192)."""
+MAX_GROUPS = 512
+"""Most point groups (tokens) per cloud (``paper``: 256)."""
+MAX_GROUP_SIZE = 256
+"""Most points per group (``cpu``: 64)."""
+MAX_GROUP_ACTIVATIONS = 2**26
+"""Bound on ``n_groups * group_size * 4 * pointnet_hidden``, the widest activation of the
+mini-PointNet per cloud (``paper``: 2**23, 32 MB; at the bound 256 MB per cloud)."""
+LOG_SCALE_RANGE = (-20.0, 20.0)
+"""Bounds of the mixture's log-scale limits (defaults -7 and 5): exp(-20) ~ 2e-9 and
+exp(20) ~ 5e8 anchor half-sizes keep every draw and density finite in float32."""
+MAX_ENTROPY_WEIGHT = 100.0
+"""Largest weight of the entropy term (a training setting; 0.01 by default)."""
+MAX_ABS_WEIGHT = 1e4
+"""Largest weight magnitude a checkpoint may hold: a trained model's are O(1) (the
+bundled one's largest is ~2); beyond this the forward pass overflows to NaN or gives
+distributions nothing can be drawn from."""
+MAX_PRESET_CHARS = 64
+"""Longest preset name (a label, shown in notes)."""
+FLOAT_DTYPES = ("F16", "BF16", "F32", "F64")
+"""Tensor dtypes a checkpoint may store (safetensors' names); loaded as float32."""
 
 
 def _safetensors():
@@ -63,7 +183,8 @@ def layout_config_to_dict(config: LayoutConfig) -> dict:
 
 
 def layout_config_from_dict(doc: dict) -> LayoutConfig:
-    """Inverse of :func:`layout_config_to_dict`; TypeError/ValueError/KeyError on bad input."""
+    """Inverse of :func:`layout_config_to_dict`; TypeError/ValueError/KeyError on bad input.
+    Checks no ranges: :func:`check_model_config` does, for a config read from a file."""
     doc = dict(doc)
     doc.setdefault("anchor_frames", False)  # written before issue 18: the support's frame
     mix = dict(doc.pop("mixture"))
@@ -72,6 +193,366 @@ def layout_config_from_dict(doc: dict) -> LayoutConfig:
     return LayoutConfig(
         **{**doc, "mixture": MixtureConfig(**mix), "variant": LayoutVariant(doc["variant"])}
     )
+
+
+# -- checking a config ------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldRange:
+    """What one config field may hold."""
+
+    kind: type
+    """int, float, bool or str (JSON integer, number, true/false, string)."""
+    low: float | None = None
+    high: float | None = None
+    below_high: bool = False
+    """``high`` itself excluded: ``[low, high)``."""
+    above_low: bool = False
+    """``low`` itself excluded: ``(low, high]``."""
+    choices: tuple = ()
+
+
+def _int(low: int, high: int) -> FieldRange:
+    return FieldRange(int, low, high)
+
+
+_UNIT = FieldRange(float, 0.0, 1.0, below_high=True)
+_FLAG = FieldRange(bool)
+
+LAYOUT_FIELDS: dict[str, FieldRange] = {
+    "width": _int(1, MAX_WIDTH),
+    "depth": _int(1, MAX_DEPTH),
+    "heads": _int(1, MAX_HEADS),
+    "queries": _int(1, MAX_QUERIES),
+    "mlp_ratio": _int(1, MAX_MLP_RATIO),
+    "point_dim": _int(1, MAX_WIDTH),
+    "n_categories": _int(len(CATEGORY_VOCAB), MAX_CATEGORIES),
+    "dropout": _UNIT,
+    "variant": FieldRange(str, choices=tuple(v.value for v in LayoutVariant)),
+    "finetune_encoder": _FLAG,
+    "anchor_frames": _FLAG,
+}
+"""``layout`` (besides ``mixture``): :class:`~pair2scene.model.layout.LayoutConfig`."""
+MIXTURE_FIELDS: dict[str, FieldRange] = {
+    "num_components": _int(1, MAX_COMPONENTS),
+    "dim": _int(BOX_DIM, BOX_DIM),
+    "min_log_scale": FieldRange(float, *LOG_SCALE_RANGE),
+    "max_log_scale": FieldRange(float, *LOG_SCALE_RANGE),
+    "entropy_weight": FieldRange(float, 0.0, MAX_ENTROPY_WEIGHT),
+    "entropy_regulariser": FieldRange(str, choices=tuple(r.value for r in EntropyRegulariser)),
+    "rotation_base": _FLAG,
+    "yaw_modes": FieldRange(int, choices=(1, 2, 4)),
+}
+"""``layout.mixture``: :class:`~pair2scene.model.mixture.MixtureConfig`."""
+ENCODER_FIELDS: dict[str, FieldRange] = {
+    "n_points": _int(1, MAX_POINTS),
+    "n_groups": _int(1, MAX_GROUPS),
+    "group_size": _int(1, MAX_GROUP_SIZE),
+    "width": _int(1, MAX_WIDTH),
+    "depth": _int(1, MAX_DEPTH),
+    "heads": _int(1, MAX_HEADS),
+    "mlp_ratio": FieldRange(float, 0.0, MAX_MLP_RATIO, above_low=True),
+    "pointnet_hidden": _int(1, MAX_WIDTH),
+    "pos_hidden": _int(1, MAX_WIDTH),
+    "mask_ratio": _UNIT,
+    "decoder_depth": _int(0, MAX_DEPTH),
+    "decoder_heads": _int(1, MAX_HEADS),
+    "dropout": _UNIT,
+}
+"""``encoder``: :class:`~pair2scene.model.pointmae.PointMAEConfig`."""
+LEGACY_DEFAULTS: dict[str, Any] = {"layout.anchor_frames": False, "layout.mixture.yaw_modes": 1}
+"""Fields older checkpoints lack, and what they mean there."""
+
+
+def _shown(value: Any) -> str:
+    """A value for a one-line message: its JSON-ish repr, at most 40 characters."""
+    text = repr(value)
+    if type(value) is bool or value is None:
+        text = json.dumps(value)
+    text = text.replace("\n", " ")
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _key(name: str) -> str:
+    """A JSON key for a message: printable, at most 40 characters."""
+    text = name if name.isprintable() else repr(name)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _json_kind(value: Any) -> str:
+    names = {dict: "an object", list: "a list", str: "a string", bool: "true/false"}
+    if value is None:
+        return "null"
+    return names.get(type(value), "a number")
+
+
+def check_field(value: Any, spec: FieldRange, where: str | Path, name: str) -> Any:
+    """``value`` if it is what ``spec`` allows (a float field's as a float), else a
+    :class:`UserError` ``<where>: <name>: <problem>``."""
+
+    def fail(problem: str) -> UserError:
+        return UserError(f"{where}: {name}: {problem}")
+
+    t = type(value)
+    if spec.kind is bool and t is not bool:
+        raise fail(f"must be true or false, got {_shown(value)}")
+    if spec.kind is int and t is not int:
+        raise fail(f"must be an integer, got {_shown(value)}")
+    if spec.kind is float:
+        if t is not int and t is not float:
+            raise fail(f"must be a number, got {_shown(value)}")
+        if not math.isfinite(value):
+            raise fail(f"must be finite, got {_shown(value)}")
+        value = float(value)
+    if spec.kind is str and t is not str:
+        raise fail(f"must be a string, got {_shown(value)}")
+    if spec.choices and value not in spec.choices:
+        raise fail(f"must be one of {', '.join(map(str, spec.choices))}; got {_shown(value)}")
+    if spec.low is not None and (value <= spec.low if spec.above_low else value < spec.low):
+        bound = "above" if spec.above_low else "at least"
+        raise fail(f"must be {bound} {spec.low:g}, got {_shown(value)}")
+    if spec.high is not None and (value >= spec.high if spec.below_high else value > spec.high):
+        bound = "below" if spec.below_high else "at most"
+        raise fail(f"must be {bound} {spec.high:g}, got {_shown(value)} (over the limit)")
+    return value
+
+
+def check_section(
+    doc: Any, fields: dict[str, FieldRange], where: str | Path, prefix: str
+) -> dict[str, Any]:
+    """The fields of the JSON object ``doc`` (named ``prefix`` in messages), each checked
+    by :func:`check_field`; every field required except :data:`LEGACY_DEFAULTS`, unknown
+    fields refused."""
+    if type(doc) is not dict:
+        raise UserError(f"{where}: {prefix}: must be an object, got {_json_kind(doc)}")
+    unknown = [k for k in doc if k not in fields]
+    if unknown:
+        raise UserError(
+            f"{where}: {prefix}.{_key(unknown[0])}: unknown field (this "
+            "version would build another network than the weights were trained in)"
+        )
+    out: dict[str, Any] = {}
+    for name, spec in fields.items():
+        full = f"{prefix}.{name}"
+        if name not in doc:
+            if full not in LEGACY_DEFAULTS:
+                raise UserError(f"{where}: {full}: missing")
+            out[name] = LEGACY_DEFAULTS[full]
+            continue
+        out[name] = check_field(doc[name], spec, where, full)
+    return out
+
+
+def check_encoder_config(doc: Any, where: str | Path, prefix: str = "encoder") -> PointMAEConfig:
+    """A Point-MAE config from JSON, every field checked against :data:`ENCODER_FIELDS`
+    and the sizes against each other (one-line :class:`UserError` naming ``where`` and
+    the field); for any reader of an encoder config (checkpoints, pre-trained encoders)."""
+    enc = check_section(doc, ENCODER_FIELDS, where, prefix)
+
+    def fail(field: str, problem: str) -> UserError:
+        return UserError(f"{where}: {prefix}.{field}: {problem}")
+
+    for heads in ("heads", "decoder_heads"):
+        if enc["width"] % enc[heads]:
+            raise fail(heads, f"{enc[heads]} does not divide width {enc['width']}")
+    for size in ("n_groups", "group_size"):
+        if enc[size] > enc["n_points"]:
+            raise fail(size, f"{enc[size]} is more than n_points {enc['n_points']}")
+    if int(enc["width"] * enc["mlp_ratio"]) < 1:
+        raise fail("mlp_ratio", f"{enc['mlp_ratio']} gives blocks an MLP of no width")
+    activations = enc["n_groups"] * enc["group_size"] * 4 * enc["pointnet_hidden"]
+    if activations > MAX_GROUP_ACTIVATIONS:
+        raise fail(
+            "pointnet_hidden",
+            f"n_groups x group_size x 4 x pointnet_hidden = {activations:,} activations per "
+            f"cloud, over the limit of {MAX_GROUP_ACTIVATIONS:,}",
+        )
+    try:
+        return PointMAEConfig(**enc)
+    except (TypeError, ValueError) as e:  # (__post_init__'s checks; covered above)
+        raise UserError(f"{where}: {prefix}: {e}") from None
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelConfig:
+    """What config.json says, checked (:func:`check_model_config`)."""
+
+    layout: LayoutConfig
+    encoder: PointMAEConfig | None
+    n_points: int
+    preset: str
+    min_anchor_half_m: float
+    weights: str
+    training: dict
+
+
+def check_model_config(doc: dict, where: str | Path) -> ModelConfig:
+    """The checkpoint config ``doc`` (config.json, format and version already checked),
+    every field checked against the module docstring's table before anything is built;
+    a one-line :class:`UserError` ``<where>: bad model config: <field>: <problem>``
+    otherwise."""
+    where = f"{where}: bad model config"
+
+    def fail(field: str, problem: str) -> UserError:
+        return UserError(f"{where}: {field}: {problem}")
+
+    if type(doc.get("version")) is not int:
+        raise fail("version", f"must be the integer {VERSION}, got {_shown(doc.get('version'))}")
+    if "layout" not in doc:
+        raise fail("layout", "missing")
+    layout_doc = doc["layout"]
+    layout_fields = {**LAYOUT_FIELDS, "mixture": FieldRange(dict)}  # (checked next)
+    layout = check_section(layout_doc, layout_fields, where, "layout")
+    mix = check_section(layout_doc.get("mixture"), MIXTURE_FIELDS, where, "layout.mixture")
+    if layout["width"] % layout["heads"]:
+        raise fail("layout.heads", f"{layout['heads']} does not divide width {layout['width']}")
+    if mix["min_log_scale"] >= mix["max_log_scale"]:
+        raise fail(
+            "layout.mixture.min_log_scale",
+            f"{mix['min_log_scale']:g} is not below max_log_scale {mix['max_log_scale']:g}",
+        )
+    try:
+        config = layout_config_from_dict({**layout, "mixture": mix})
+    except (TypeError, ValueError, KeyError) as e:  # (__post_init__'s checks; covered above)
+        raise UserError(f"{where} ({type(e).__name__}: {e})") from None
+
+    variant = doc.get("variant", config.variant.value)
+    if variant != config.variant.value:
+        raise fail("variant", f"{_shown(variant)} is not layout.variant {config.variant.value!r}")
+    enc_doc = doc.get("encoder")
+    encoder = None if enc_doc is None else check_encoder_config(enc_doc, where)
+    if config.uses_points:
+        if encoder is None:
+            raise fail("encoder", f"variant {config.variant.value!r} needs an encoder config")
+        if encoder.width != config.point_dim:
+            raise fail(
+                "layout.point_dim",
+                f"{config.point_dim} is not the encoder's width {encoder.width}",
+            )
+    if "n_points" not in doc:
+        raise fail("n_points", "missing")
+    n_points = check_field(doc["n_points"], _int(1, MAX_POINTS), where, "n_points")
+    if encoder is not None and n_points < max(encoder.n_groups, encoder.group_size):
+        raise fail(
+            "n_points",
+            f"{n_points} points cannot make the encoder's {encoder.n_groups} groups of "
+            f"{encoder.group_size}",
+        )
+    preset = check_field(doc.get("preset", ""), FieldRange(str), where, "preset")
+    if len(preset) > MAX_PRESET_CHARS:
+        raise fail("preset", f"longer than {MAX_PRESET_CHARS} characters")
+    min_half = check_field(
+        doc.get("min_anchor_half_m", MIN_ANCHOR_HALF_M), FieldRange(float), where,
+        "min_anchor_half_m",
+    )  # fmt: skip
+    if min_half != MIN_ANCHOR_HALF_M:
+        raise fail(
+            "min_anchor_half_m",
+            f"trained with {min_half}, this version uses {MIN_ANCHOR_HALF_M}",
+        )
+    weights = check_field(doc.get("weights", WEIGHTS_FILE), FieldRange(str), where, "weights")
+    if not weights or weights in (".", "..") or any(c in weights for c in "/\\\x00:"):
+        raise fail("weights", f"{_shown(weights)} is not a file name inside the folder")
+    training = doc.get("training")
+    if training is not None and type(training) is not dict:
+        raise fail("training", f"must be an object, got {_json_kind(training)}")
+    return ModelConfig(config, encoder, n_points, preset, min_half, weights, training or {})
+
+
+# -- the network, before its weights ----------------------------------------------------------
+
+PART_FIELDS: dict[str, tuple[str, ...]] = {
+    "blocks": ("layout.width", "layout.depth", "layout.mlp_ratio"),
+    "head": ("layout.queries", "layout.width", "layout.mixture.num_components"),
+    "category": ("layout.n_categories", "layout.width"),
+    "point_encoder": ("encoder.width", "encoder.depth", "encoder.mlp_ratio",
+                      "encoder.pointnet_hidden"),
+}  # fmt: skip
+"""Which config fields size each part of the predictor (for the parameter-limit message;
+any other part: ``layout.width``)."""
+
+
+def skeleton(config: LayoutConfig, encoder: PointMAEConfig | None) -> LayoutPredictor:
+    """The network ``config`` describes, on torch's meta device: shapes without memory."""
+    with torch.device("meta"):
+        point_encoder = PointMAEEncoder(encoder) if config.uses_points else None
+    return LayoutPredictor(config, point_encoder, materialise=False)
+
+
+def _field_value(spec: ModelConfig, field: str) -> Any:
+    section, _, rest = field.partition(".")
+    value: Any = spec.layout if section == "layout" else spec.encoder
+    for part in rest.split("."):
+        value = getattr(value, part)
+    return value
+
+
+def check_parameter_count(net: LayoutPredictor, spec: ModelConfig, where: str | Path) -> int:
+    """The parameters of ``net`` (a :func:`skeleton`); over :data:`MAX_PARAMETERS` a
+    one-line :class:`UserError` naming the fields that size its largest part."""
+    parts: dict[str, int] = {}
+    for name, p in net.named_parameters():
+        top = name.split(".", 1)[0]
+        parts[top] = parts.get(top, 0) + p.numel()
+    total = sum(parts.values())
+    if total > MAX_PARAMETERS:
+        largest = max(parts, key=parts.__getitem__)
+        fields = PART_FIELDS.get(largest, ("layout.width",))
+        shown = ", ".join(f"{f} {_field_value(spec, f)}" for f in fields)
+        raise UserError(
+            f"{where}: {shown}: the config describes {total / 1e6:,.0f} M parameters "
+            f"({largest}: {parts[largest] / 1e6:,.0f} M), over the limit of "
+            f"{MAX_PARAMETERS / 1e6:.0f} M"
+        )
+    return total
+
+
+def _one_line(e: BaseException) -> str:
+    text = " ".join(str(e).split())
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
+def check_weights_header(path: Path, expected: dict[str, tuple[int, ...]]) -> None:
+    """The safetensors file ``path`` holds exactly the tensors ``expected`` (name ->
+    shape), in a floating-point dtype; read from its header alone. One-line
+    :class:`UserError` otherwise."""
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise UserError(f"{path}: missing") from None
+    except (OSError, ValueError) as e:
+        raise UserError(f"{path}: cannot read ({_one_line(e)})") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise UserError(f"{path}: not a regular file (a safetensors file is expected)")
+    from safetensors import safe_open
+
+    found: dict[str, tuple[tuple[int, ...], str]] = {}
+    try:
+        with safe_open(str(path), framework="pt") as f:
+            for name in f.keys():  # noqa: SIM118  (safe_open is no mapping)
+                part = f.get_slice(name)
+                found[name] = (tuple(part.get_shape()), part.get_dtype())
+    except Exception as e:  # safetensors raises its own types for truncated/corrupt files
+        raise UserError(f"{path}: not a readable safetensors file ({_one_line(e)})") from None
+
+    def unfit(problem: str) -> UserError:
+        return UserError(f"{path}: weights do not fit the config ({problem})")
+
+    missing = [k for k in expected if k not in found]
+    if missing:
+        more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
+        raise unfit(f"missing tensor {_shown(missing[0])}{more}")
+    extra = [k for k in found if k not in expected]
+    if extra:
+        more = f" and {len(extra) - 1} more" if len(extra) > 1 else ""
+        raise unfit(f"unexpected tensor {_shown(extra[0])}{more}")
+    for name, shape in expected.items():
+        got, dtype = found[name]
+        if got != shape:
+            raise unfit(f"{name} has shape {list(got)}, the config gives {list(shape)}")
+        if dtype not in FLOAT_DTYPES:
+            raise unfit(f"{name} is {dtype}, not a floating-point tensor")
 
 
 @dataclasses.dataclass
@@ -122,63 +603,65 @@ def save_checkpoint(
 
 def read_config(folder: str | Path) -> dict:
     """config.json of a checkpoint folder, checked for format and version."""
-    if Path(folder).is_file():
+    folder = Path(folder)
+    if folder.is_file():
         raise UserError(f"{folder}: a checkpoint is a folder holding {CONFIG_FILE}")
-    return read_json_document(
-        Path(folder) / CONFIG_FILE, FORMAT, VERSION, "missing (not a layout-model checkpoint)"
-    )
+    path = folder / CONFIG_FILE
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        mode = None  # missing or unreadable: the reader says which
+    if mode is not None and not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        raise UserError(f"{path}: not a regular file")  # a pipe would block the reader
+    return read_json_document(path, FORMAT, VERSION, "missing (not a layout-model checkpoint)")
 
 
 def load_checkpoint(folder: str | Path | None = None, device: str = "cpu") -> Checkpoint:
-    """The checkpoint in ``folder`` (None: the bundled default), in eval mode."""
+    """The checkpoint in ``folder`` (None: the bundled default), in eval mode; checked as
+    the module docstring says, every problem a one-line :class:`UserError`."""
     st = _safetensors()
     folder = DEFAULT_DIR if folder is None else Path(folder)
     if folder == DEFAULT_DIR and not (folder / CONFIG_FILE).exists():
         raise UserError("no bundled default model in this installation")
     doc = read_config(folder)
     where = folder / CONFIG_FILE
-    try:
-        config = layout_config_from_dict(doc["layout"])
-        enc_doc = doc.get("encoder")
-        encoder_config = None if enc_doc is None else PointMAEConfig(**enc_doc)
-        n_points = int(doc["n_points"])
-        preset = str(doc.get("preset", ""))
-        min_half = float(doc.get("min_anchor_half_m", MIN_ANCHOR_HALF_M))
-    except (TypeError, ValueError, KeyError) as e:
-        raise UserError(f"{where}: bad model config ({type(e).__name__}: {e})") from None
-    if config.uses_points and encoder_config is None:
-        raise UserError(f"{where}: variant {config.variant.value!r} needs an encoder config")
-    if min_half != MIN_ANCHOR_HALF_M:
-        raise UserError(
-            f"{where}: trained with min_anchor_half_m {min_half}, this version uses "
-            f"{MIN_ANCHOR_HALF_M}"
-        )
-    weights = folder / str(doc.get("weights", WEIGHTS_FILE))
+    spec = check_model_config(doc, where)
+    predictor = skeleton(spec.layout, spec.encoder)
+    check_parameter_count(predictor, spec, f"{where}: bad model config")
+    weights = folder / spec.weights
+    expected = {k: tuple(v.shape) for k, v in predictor.state_dict().items()}
+    check_weights_header(weights, expected)
     try:
         state = st.load_file(str(weights), device="cpu")
     except FileNotFoundError:
         raise UserError(f"{weights}: missing") from None
     except Exception as e:  # safetensors raises its own types for truncated/corrupt files
-        raise UserError(f"{weights}: not a readable safetensors file ({e})") from None
-    encoder = PointMAEEncoder(encoder_config) if config.uses_points else None
-    predictor = LayoutPredictor(config, encoder)
+        raise UserError(f"{weights}: not a readable safetensors file ({_one_line(e)})") from None
+    for name, value in state.items():
+        value = state[name] = value.float()
+        if not torch.isfinite(value).all():
+            raise UserError(f"{weights}: non-finite weights in {name}")
+        if value.numel() and float(value.abs().max()) > MAX_ABS_WEIGHT:
+            raise UserError(
+                f"{weights}: weights of magnitude {float(value.abs().max()):.3g} in {name}, "
+                f"beyond {MAX_ABS_WEIGHT:g}: not a trained model"
+            )
     try:
-        predictor.load_state_dict(state, strict=True)
-    except RuntimeError as e:
-        first = str(e).strip().splitlines()[0:2]
-        raise UserError(f"{weights}: weights do not fit the config ({' '.join(first)})") from None
-    bad = [k for k, v in state.items() if v.is_floating_point() and not torch.isfinite(v).all()]
-    if bad:
-        raise UserError(f"{weights}: non-finite weights in {bad[0]}")
+        predictor.load_state_dict(state, strict=True, assign=True)
+    except RuntimeError as e:  # (the header check above makes this unreachable)
+        raise UserError(f"{weights}: weights do not fit the config ({_one_line(e)})") from None
+    left = [n for n, t in [*predictor.named_parameters(), *predictor.named_buffers()] if t.is_meta]
+    if left:
+        raise UserError(f"{weights}: weights do not fit the config (no tensor for {left[0]})")
     predictor = predictor.to(device).eval()
     return Checkpoint(
         predictor=predictor,
-        config=config,
-        encoder_config=encoder_config,
-        n_points=n_points,
-        preset=preset,
-        min_anchor_half_m=min_half,
-        meta=doc.get("training") or {},
+        config=spec.layout,
+        encoder_config=spec.encoder,
+        n_points=spec.n_points,
+        preset=spec.preset,
+        min_anchor_half_m=spec.min_anchor_half_m,
+        meta=spec.training,
         path=folder,
     )
 

@@ -395,6 +395,11 @@ class LayoutPredictor(nn.Module):
         it. When ``config.trains_encoder`` is False it is frozen and kept in eval mode.
     generator : initialises the predictor's own weights (None: seed 0), so equal
         generators give byte-identical models.
+    materialise : False leaves every parameter on the meta device, uninitialised: a
+        skeleton that costs no memory whatever the config, for counting parameters and
+        reading the expected tensor shapes (:func:`~pair2scene.model.checkpoint.load_checkpoint`
+        checks a checkpoint against one, then loads the weights into it with
+        ``load_state_dict(..., assign=True)``). Pass an encoder built on the meta device too.
     """
 
     def __init__(
@@ -402,6 +407,8 @@ class LayoutPredictor(nn.Module):
         config: LayoutConfig,
         point_encoder: nn.Module | None = None,
         generator: torch.Generator | None = None,
+        *,
+        materialise: bool = True,
     ) -> None:
         super().__init__()
         self.config = config
@@ -424,8 +431,10 @@ class LayoutPredictor(nn.Module):
             self.head = MLP(c.queries * c.width, c.width, c.mixture.head_dim)
             if self.uses_frames:
                 self.frame = nn.Embedding(len(FRAME_NAMES), c.width)
-        self.to_empty(device="cpu")
-        self._init_weights(torch.Generator().manual_seed(0) if generator is None else generator)
+        if materialise:
+            self.to_empty(device="cpu")
+            seeded = torch.Generator().manual_seed(0) if generator is None else generator
+            self._init_weights(seeded)
 
         self.point_encoder = point_encoder if c.uses_points else None
         if self.point_encoder is not None and not c.trains_encoder:

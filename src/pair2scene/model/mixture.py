@@ -85,6 +85,8 @@ import torch
 import torch.nn.functional as F
 from torch import Tensor
 
+from pair2scene.errors import UserError
+
 BOX_DIM = 12
 """Dimension of the box target: centre 3, log size 3, 6D rotation 6."""
 
@@ -96,6 +98,28 @@ a room's half-size, far above it."""
 GRAM_SCHMIDT_EPS = 1e-9
 """Floor on vector norms in Gram-Schmidt, as in the numpy
 :func:`~pair2scene.scene.geometry.sixd_to_matrix`: keeps a degenerate 6D finite."""
+
+MAX_ABS_LOCATION = 1e6
+"""Largest component location :func:`sample` accepts, in the target's units (anchor
+half-sizes in the model frame; metres for ``global``): a million anchor half-sizes away
+is no placement any room holds, only what a broken checkpoint outputs (a trained one
+stays within a few dozen)."""
+
+
+class InvalidDistribution(UserError):
+    """Mixture parameters no draw can come from: non-finite or absurd locations,
+    non-finite scales, weights that are not a distribution (NaN, or every component at
+    zero). What a broken checkpoint (finite but extreme weights) produces; one line, not
+    torch's ``invalid multinomial distribution``."""
+
+    def __init__(self, problem: str, source: str | None = None) -> None:
+        self.problem, self.source = problem, source
+        who = "the model" if source is None else f"{source}: the checkpoint"
+        super().__init__(f"{who} produces invalid distributions ({problem})")
+
+    def named(self, source: object) -> InvalidDistribution:
+        """The same error naming where the model came from (a checkpoint folder)."""
+        return InvalidDistribution(self.problem, str(source))
 
 
 class EntropyRegulariser(str, Enum):
@@ -343,6 +367,28 @@ def condition(params: MixtureParams, dims: Sequence[int], values: Tensor) -> Mix
 
 
 # -- sampling ------------------------------------------------------------------------
+def check_params(params: MixtureParams) -> None:
+    """Raise :class:`InvalidDistribution` unless every mixture can be drawn from: its
+    locations finite and within :data:`MAX_ABS_LOCATION`, its log scales finite (a scale
+    of exp(-inf) = 0 or inf is none), its weights ``softmax(logits)`` finite (NaN or +inf
+    logits, or all of a row's at -inf, are no distribution; single -inf logits are zero
+    weights and fine). One reduction per tensor and one host sync in the normal case."""
+    logits, loc, log_scale = params
+    weights = torch.softmax(logits.detach(), dim=-1)
+    ok = (loc.detach().abs() <= MAX_ABS_LOCATION).all()  # False for NaN and inf too
+    ok &= torch.isfinite(log_scale.detach()).all() & torch.isfinite(weights).all()
+    if bool(ok):
+        return
+    if not torch.isfinite(weights).all():
+        raise InvalidDistribution("mixture weights are not finite")
+    if not torch.isfinite(loc).all():
+        raise InvalidDistribution("non-finite locations")
+    if not (loc.abs() <= MAX_ABS_LOCATION).all():
+        far = float(loc.detach().abs().max())
+        raise InvalidDistribution(f"a location of {far:.3g}, beyond {MAX_ABS_LOCATION:g}")
+    raise InvalidDistribution("non-finite or zero scales")
+
+
 def mode(params: MixtureParams) -> Tensor:
     """Location of the heaviest component: (B, D).
 
@@ -422,11 +468,16 @@ def sample(
     each component is weighted by its mass in the window as well, and each windowed dim
     drawn by the inverse CDF of its logistic truncated to the interval. A mixture with
     no mass in its window (none in float64) draws as if it had none. Ignored at T = 0.
+
+    Parameters no draw can come from (:func:`check_params`), or draws that come out
+    non-finite, raise :class:`InvalidDistribution` (a :class:`~pair2scene.errors.UserError`:
+    the checkpoint is broken), never torch's own error.
     """
     if temperature < 0 or not math.isfinite(temperature):
         raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
+    check_params(params)
     logits, loc, log_scale = params
     batch, (k, d) = logits.shape[:-1], loc.shape[-2:]
     if temperature == 0:
@@ -445,6 +496,8 @@ def sample(
         b = torch.where(empty[:, None, None], math.inf, b)
         tempered = (tempered.double() + log_mass).to(tempered.dtype)
     probs = torch.softmax(tempered, dim=-1)  # (M, K)
+    if not torch.isfinite(probs).all():  # finite logits / T can still overflow
+        raise InvalidDistribution(f"mixture weights are not finite at temperature {temperature}")
     comp = torch.multinomial(probs, n, replacement=True, generator=generator)  # (M, n)
     index = comp.unsqueeze(-1).expand(-1, -1, d)  # (M, n, D)
     mu = loc.reshape(-1, k, d).gather(1, index)  # (M, n, D)
@@ -459,6 +512,8 @@ def sample(
             a.gather(1, pick), b.gather(1, pick), u[..., dims].double()
         ).to(z.dtype)
     x = mu + scale * z
+    if not torch.isfinite(x).all():
+        raise InvalidDistribution(f"non-finite draws at temperature {temperature}")
     return x.reshape(*batch, n, d)  # (B, n, D)
 
 
