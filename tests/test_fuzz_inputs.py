@@ -78,7 +78,7 @@ def _garbage(rng: np.random.Generator):
     if pick == 5:
         return {"a": 1}
     if pick == 6:
-        return [float(x) for x in rng.normal(0, 10 ** rng.integers(0, 300), rng.integers(1, 5))]
+        return [float(x) for x in rng.normal(0, 10.0 ** rng.integers(0, 300), rng.integers(1, 5))]
     if pick == 7:
         return "".join(rng.choice(list(string.printable), int(rng.integers(1, 40))))
     return int(rng.integers(-(2**31), 2**31))
