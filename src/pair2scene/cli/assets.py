@@ -14,7 +14,13 @@ from typing import Annotated
 
 import typer
 
-from pair2scene.cli.checks import MAX_COLUMNS, SEED_LIMIT, check_seed, path_parser, writable_file
+from pair2scene.cli.checks import (
+    MAX_COLUMNS,
+    SEED_LIMIT,
+    check_seed,
+    out_option,
+    writable_file,
+)
 
 assets_app = typer.Typer(
     help="Procedural assets: list the library, draw its contact sheet.", no_args_is_help=True
@@ -66,9 +72,7 @@ def assets_list(
 def assets_sheet(
     out: Annotated[
         Path,
-        typer.Option(
-            "--out", parser=path_parser("--out"), metavar="FILE", help="PNG to write (a file)."
-        ),
+        out_option("PNG to write (a file).", "FILE"),
     ] = Path("asset_sheet.png"),
     seed: Annotated[
         int,

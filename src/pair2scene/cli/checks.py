@@ -25,6 +25,8 @@ import stat
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+import typer
+
 from pair2scene.errors import UserError
 
 SEED_LIMIT = 2**32
@@ -107,6 +109,11 @@ def path_parser(flag: str) -> Callable[[str], Path]:
         return _nonempty(text, flag)
 
     return parse
+
+
+def out_option(help: str, metavar: str = "DIR") -> typer.models.OptionInfo:
+    """The ``--out`` option of a command: a path, never empty (:func:`path_parser`)."""
+    return typer.Option("--out", parser=path_parser("--out"), metavar=metavar, help=help)
 
 
 def existing_file(path: str | Path | None, flag: str) -> Path | None:

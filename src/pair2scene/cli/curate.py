@@ -17,7 +17,7 @@ from pair2scene.cli.checks import (
     SEED_LIMIT,
     check_count,
     check_seed,
-    path_parser,
+    out_option,
     writable_folder,
 )
 
@@ -33,12 +33,7 @@ def curate(
     ],
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            parser=path_parser("--out"),
-            metavar="DIR",
-            help="Output folder (an earlier run there resumes).",
-        ),
+        out_option("Output folder (an earlier run there resumes)."),
     ],
     functional: Annotated[
         str, typer.Option(help="Functional proposer: offline (built-in table) or llm.")

@@ -13,7 +13,7 @@ from pair2scene.cli.checks import (
     SEED_LIMIT,
     check_seed,
     check_threads,
-    path_parser,
+    out_option,
     writable_file,
 )
 
@@ -22,11 +22,8 @@ def evaluate_command(
     scenes: Annotated[Path, typer.Option(help="Folder of generated scenes (pair2scene generate).")],
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            parser=path_parser("--out"),
-            metavar="FILE",
-            help="Report JSON to write (a file, not a folder; OUT.cache.json beside it).",
+        out_option(
+            "Report JSON to write (a file, not a folder; OUT.cache.json beside it).", "FILE"
         ),
     ],
     reference: Annotated[

@@ -18,7 +18,7 @@ from pair2scene.cli.checks import (
     check_seed,
     check_threads,
     existing_file,
-    path_parser,
+    out_option,
     writable_folder,
 )
 from pair2scene.cli.options import with_config
@@ -31,12 +31,8 @@ from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, MODES
 def generate_command(
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            parser=path_parser("--out"),
-            metavar="DIR",
-            help="Output folder (resumed if present); made if missing, its folder must be "
-            "writable.",
+        out_option(
+            "Output folder (resumed if present); made if missing, its folder must be writable."
         ),
     ],
     room: Annotated[

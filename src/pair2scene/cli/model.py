@@ -20,6 +20,7 @@ from pair2scene.cli.checks import (
     SEED_LIMIT,
     check_count,
     check_seed,
+    out_option,
     path_parser,
     writable_file,
     writable_folder,
@@ -113,12 +114,7 @@ def score_command(
 def pretrain_command(
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            parser=path_parser("--out"),
-            metavar="DIR",
-            help="Folder for the encoder's files.",
-        ),
+        out_option("Folder for the encoder's files."),
     ],
     preset_name: Annotated[
         str, typer.Option("--preset", help="Encoder sizes: tiny, cpu (default) or paper.")
@@ -168,12 +164,7 @@ def train_command(
     ],
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            parser=path_parser("--out"),
-            metavar="DIR",
-            help="Checkpoint folder (resumed if present).",
-        ),
+        out_option("Checkpoint folder (resumed if present)."),
     ],
     preset_name: Annotated[
         str, typer.Option("--preset", help="tiny, cpu (default) or paper.")
