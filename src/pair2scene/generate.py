@@ -342,17 +342,16 @@ def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -
 
 
 def set_threads(threads: int | None = None) -> None:
-    """Torch's CPU threads: ``threads``, or the usable cores up to 4 (the layout model's
-    forward passes are small; more threads only add overhead). Run several generate jobs
-    side by side with ``--threads 1`` each."""
-    import os
-
+    """Torch's CPU threads: ``threads``, or one. The layout model's forward passes are a
+    handful of small matrices: a second thread gains nothing on an idle machine and costs
+    a lot on a busy one (5 bedrooms with a test run beside them: 9.5-12.7 s with one
+    thread, 15.2-15.7 s with two). Parallelism comes from processes: run several generate
+    jobs side by side. The scenes are the same bytes whatever the thread count."""
     import torch
 
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    torch.set_num_threads(threads or max(1, min(4, cores or 1)))
+    torch.set_num_threads(threads or 1)
 
 
 def settle_scene(

@@ -95,7 +95,8 @@ def generate_command(
     threads: Annotated[
         int | None,
         typer.Option(
-            help=f"CPU threads for torch, 1 .. {MAX_THREADS} (default: all cores, at most 4)."
+            help=f"CPU threads for torch, 1 .. {MAX_THREADS} (default 1: run processes side by "
+            "side for more)."
         ),
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
