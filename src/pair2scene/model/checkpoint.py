@@ -88,11 +88,13 @@ Ranges of config.json (every bound inclusive unless written ``<``; presets for s
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
 import os
 import stat
+from collections.abc import Iterator
 from enum import Enum
 from pathlib import Path
 from typing import Any
@@ -473,11 +475,29 @@ PART_FIELDS: dict[str, tuple[str, ...]] = {
 any other part: ``layout.width``)."""
 
 
+@contextlib.contextmanager
+def _no_init() -> Iterator[None]:
+    """``torch.nn.init``'s in-place initialisers as no-ops while a skeleton is built: its
+    weights are overwritten by the checkpoint's anyway, and on the meta device the first
+    of them costs ~1.1 s of torch's own set-up (issue 22)."""
+    names = [n for n in vars(torch.nn.init) if n.endswith("_") and not n.startswith("_")]
+    saved = {n: getattr(torch.nn.init, n) for n in names}
+    for n in names:
+        setattr(torch.nn.init, n, lambda tensor, *args, **kwargs: tensor)
+    try:
+        yield
+    finally:
+        for n, f in saved.items():
+            setattr(torch.nn.init, n, f)
+
+
 def skeleton(config: LayoutConfig, encoder: PointMAEConfig | None) -> LayoutPredictor:
-    """The network ``config`` describes, on torch's meta device: shapes without memory."""
-    with torch.device("meta"):
-        point_encoder = PointMAEEncoder(encoder) if config.uses_points else None
-    return LayoutPredictor(config, point_encoder, materialise=False)
+    """The network ``config`` describes, on torch's meta device: shapes without memory,
+    built without initialising what the weights replace (:func:`_no_init`)."""
+    with _no_init():
+        with torch.device("meta"):
+            point_encoder = PointMAEEncoder(encoder) if config.uses_points else None
+        return LayoutPredictor(config, point_encoder, materialise=False)
 
 
 def _field_value(spec: ModelConfig, field: str) -> Any:
