@@ -1,0 +1,153 @@
+"""Speed of generation, the figures issue 22 asks for, side by side in one run.
+
+Run from the repository root, on an idle machine::
+
+    python benchmarks/speed.py [--runs 5] [--scenes 10] [--no-write]
+
+- process start to exit of the README's first command
+  (``pair2scene generate --room bedroom --out OUT``), median of ``--runs``;
+- a warm fit bedroom with its folder written (scene.json, GLB, top view), median over
+  ``--scenes`` seeds, in one process with the model loaded;
+- ``beyond`` bedrooms of 20, 40, 80, 160 and 320 objects (3 seeds each, median) and the
+  cost slope, log(seconds) against log(objects) from 40 to 320;
+- scenes a minute from one process and from two side by side (``--num`` each), and the
+  slow-down of one process while a CPU-bound process runs beside it.
+
+Writes the figures into ``docs/benchmarks.md`` under ``## Speed`` (that section only).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import math
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _docs import machine, replace_section
+
+ROOT = Path(__file__).resolve().parents[1]
+DOC = ROOT / "docs" / "benchmarks.md"
+SECTION = "## Speed"
+SIZES = (20, 40, 80, 160, 320)
+CLI = [sys.executable, "-m", "pair2scene"]
+
+
+def wall(cmd: list[str]) -> float:
+    """Seconds a command takes from process start to exit; exits on failure."""
+    t0 = time.perf_counter()
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode:
+        sys.exit(f"failed: {' '.join(cmd)}\n{done.stderr[-500:]}")
+    return time.perf_counter() - t0
+
+
+def start_to_exit(tmp: Path, runs: int) -> float:
+    times = []
+    for i in range(runs):
+        out = tmp / f"first{i}"
+        times.append(wall([*CLI, "generate", "--room", "bedroom", "--out", str(out)]))
+        shutil.rmtree(out)
+    return statistics.median(times)
+
+
+def warm(tmp: Path, scenes: int) -> tuple[float, dict[int, float]]:
+    """(median seconds of a written fit bedroom, {objects: median seconds of beyond})."""
+    from pair2scene import Pair2Scene
+    from pair2scene.io.export import write_scene_folder
+
+    p2s = Pair2Scene.from_pretrained()
+    p2s.generate(room="bedroom", seed=10_000)  # imports, first clouds
+    fit = []
+    for seed in range(scenes):
+        t0 = time.perf_counter()
+        r = p2s.generate(room="bedroom", seed=seed)
+        write_scene_folder(tmp / f"warm{seed}", r.scene, r.assets)
+        fit.append(time.perf_counter() - t0)
+    beyond = {}
+    for n in SIZES:
+        times = []
+        for seed in range(3):
+            t0 = time.perf_counter()
+            p2s.generate(room="bedroom", seed=seed, mode="beyond", max_objects=n)
+            times.append(time.perf_counter() - t0)
+        beyond[n] = statistics.median(times)
+    return statistics.median(fit), beyond
+
+
+def per_minute(tmp: Path, processes: int, num: int, busy: bool = False) -> float:
+    """Scenes a minute from ``processes`` generate runs side by side (``num`` each), with
+    a CPU-bound process beside them when ``busy``."""
+    burner = None
+    if busy:
+        burner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        t0 = time.perf_counter()
+        procs = []
+        for k in range(processes):
+            out = tmp / f"pm{processes}{busy}{k}"
+            cmd = [*CLI, "generate", "--room", "bedroom", "--num", str(num),
+                   "--seed", str(1000 * k), "--out", str(out)]  # fmt: skip
+            procs.append(subprocess.Popen(cmd, stdout=subprocess.DEVNULL,
+                                          stderr=subprocess.DEVNULL))  # fmt: skip
+        codes = [p.wait() for p in procs]
+        seconds = time.perf_counter() - t0
+    finally:
+        if burner is not None:
+            burner.kill()
+            burner.wait()
+    if any(codes):
+        sys.exit(f"a generate process failed: {codes}")
+    return 60.0 * processes * num / seconds
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--scenes", type=int, default=10)
+    ap.add_argument("--no-write", action="store_true")
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as d:
+        tmp = Path(d)
+        first = start_to_exit(tmp, a.runs)
+        fit, beyond = warm(tmp, a.scenes)
+        one = per_minute(tmp, 1, a.scenes)
+        two = per_minute(tmp, 2, a.scenes)
+        busy = per_minute(tmp, 1, a.scenes, busy=True)
+    slope = (math.log(beyond[320]) - math.log(beyond[40])) / (math.log(320) - math.log(40))
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    lines = [
+        SECTION,
+        "",
+        f"`python benchmarks/speed.py --runs {a.runs} --scenes {a.scenes}` on {machine()}, "
+        f"{dt.date.today().isoformat()}; torch threads at the default (1).",
+        "",
+        "| what | now | issue 22's target |",
+        "|---|---|---|",
+        f"| `pair2scene generate --room bedroom --out out`, start to exit (median of "
+        f"{a.runs}) | {first:.2f} s | <= 3 s |",
+        f"| a fit bedroom, folder written, warm (median of {a.scenes}) | {fit:.2f} s | "
+        f"<= 0.25 s |",
+        *(f"| a beyond bedroom of {n} objects (median of 3) | {beyond[n]:.2f} s | "
+          + {80: "<= 1.2 s", 320: "<= 5 s"}.get(n, "") + " |" for n in SIZES),
+        f"| cost slope, 40 to 320 objects (log-log) | {slope:.2f} | <= 1.05 |",
+        f"| scenes a minute, one process / two side by side ({cores} cores) | {one:.1f} / "
+        f"{two:.1f} ({two / one:.2f}x) | >= 1.8x |",
+        f"| one process beside a CPU-bound one, slow-down | {one / busy:.2f}x | <= 2.2x |",
+    ]  # fmt: skip
+    text = "\n".join(lines)
+    print(text)
+    if not a.no_write:
+        replace_section(DOC, SECTION, text)
+        print(f"wrote {DOC.relative_to(ROOT)} ({SECTION})", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
