@@ -39,7 +39,6 @@ What real house files hold, and how it is read:
 
 from __future__ import annotations
 
-import json
 import math
 from collections import Counter
 from collections.abc import Iterable, Sequence
@@ -59,6 +58,7 @@ from pair2scene.categories import (
 from pair2scene.data.base import SPLITS, Corpus, SourceReport, stable_fraction
 from pair2scene.data.support import floor_by_height
 from pair2scene.errors import UserError
+from pair2scene.io.jsondoc import MAX_STATS_BYTES, JsonFileError, read_json_file
 from pair2scene.progress import track
 from pair2scene.scene.geometry import OrientedBox, points_in_polygon, polygon_area
 from pair2scene.scene.model import AssetRef, Opening, Room, Scene, SceneObject
@@ -441,13 +441,15 @@ def _one_line(exc: BaseException) -> str:
 
 
 def _read_json(file: Path, what: str) -> Any:
+    """A house file or model_info.json, read within :func:`read_json_file`'s bounds (a
+    3D-FRONT house runs to tens of MB: the statistics' size limit); values are checked
+    field by field later, so non-finite numbers are not refused here."""
     try:
-        with file.open(encoding="utf-8") as f:
-            return json.load(f)
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise UserError(f"{file}: not valid {what}: {_one_line(exc)}") from None
-    except OSError as exc:
-        raise UserError(f"{file}: cannot read: {_one_line(exc)}") from None
+        return read_json_file(file, what, MAX_STATS_BYTES, finite=False)
+    except JsonFileError as e:
+        if e.missing:
+            raise UserError(f"{file}: cannot read: {e.problem}") from None
+        raise UserError(f"{file}: not valid {what}: {e.problem}") from None
 
 
 def find_model_info(path: Path) -> Path | None:
