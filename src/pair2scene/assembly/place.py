@@ -665,7 +665,7 @@ class Placer:
             return []
         size = np.asarray(query.size, float)
         walls = walls_of(room.floor_polygon)
-        boxes = [p.box for p in placed.values() if p.box.bottom < 0.05]
+        boxes = _floor_boxes(placed)
         free = [
             free_length(free_stretches(w, room, boxes, size[1], size[2]), size[0]) for w in walls
         ]
@@ -689,7 +689,7 @@ class Placer:
         walls = walls_of(room.floor_polygon)
         rng = np.random.default_rng([asset_seed(node.id, seed), 191])
         if node.category in WINDOW_DRESSINGS:
-            floor = [p.box for p in placed.values() if p.box.bottom < FLOOR_BOX_BOTTOM_M]
+            floor = _floor_boxes(placed)
             out = []
             for i, window in enumerate(room.windows):
                 if i in dressed:
@@ -762,8 +762,7 @@ class Placer:
             return None, "too_large", False
         if not cfg.reject:
             return hung, None, False
-        floor = [ctx.placed[i].box for i in ctx.ids
-                 if ctx.placed[i].box.bottom < FLOOR_BOX_BOTTOM_M]  # fmt: skip
+        floor = _floor_boxes(ctx.placed, ctx.ids)
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
         if reason is None:
             reason, _ = self._blocked(hung, ctx)
@@ -910,6 +909,15 @@ class _Dressing:
 FLOOR_BOX_BOTTOM_M = 0.05
 """An object whose bottom is this low stands on the floor (what a mounted object may hang
 behind or above)."""
+
+
+def _floor_boxes(placed: dict[str, _Placed], ids=None) -> list[OrientedBox]:
+    """The boxes of the placed objects (of ``ids``, default all) standing on the floor
+    (:data:`FLOOR_BOX_BOTTOM_M`)."""
+    return [placed[i].box for i in (placed if ids is None else ids)
+            if placed[i].box.bottom < FLOOR_BOX_BOTTOM_M]  # fmt: skip
+
+
 FIT_MARGIN = 0.9
 """Share of a surface's extent a dependent's footprint may take when the data says no
 more (:func:`surface_fit`)."""
