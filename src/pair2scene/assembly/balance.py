@@ -51,8 +51,8 @@ def balance_supports(
     support has room for).
     ``fixed`` objects (kept by the user) never move and always count."""
     category = {n.id: n.category for n in hierarchy.nodes}
-    area = {oid: surface_area(a) for oid, a in assets.items() if oid in category}
-    load = dict.fromkeys(area, 0.0)
+    area = _Areas({oid: a for oid, a in assets.items() if oid in category})
+    load = dict.fromkeys(area.ids, 0.0)
     support = dict(hierarchy.support)
     functional = dict(hierarchy.functional)
     moves: list[Moved] = []
@@ -93,6 +93,23 @@ def balance_supports(
     return balanced, moves, overflow
 
 
+class _Areas:
+    """object id -> :func:`surface_area` of its asset, computed when first asked: most
+    objects (a book, a mug) are never asked, and their surfaces cost more than the rest of
+    the balance."""
+
+    def __init__(self, assets: dict[str, Asset]) -> None:
+        self._assets = assets
+        self._known: dict[str, float] = {}
+        self.ids = sorted(assets)
+        """Every object id, sorted."""
+
+    def __getitem__(self, oid: str) -> float:
+        if oid not in self._known:
+            self._known[oid] = surface_area(self._assets[oid])
+        return self._known[oid]
+
+
 def _is_own_dependent(functional: dict[str, str], oid: str) -> bool:
     """Objects others are placed relative to (a plate with a fork beside it) stay."""
     return oid in functional.values()
@@ -108,7 +125,7 @@ def _free_support(oid, f, category, support, sup_dep, area, load, rules) -> str 
         changed = bool(new)
         below |= new
     best, best_free = None, 0.0
-    for cand in sorted(area):
+    for cand in area.ids:
         if cand in below or sup_dep.get(category[cand], {}).get(category[oid], 0) <= 0:
             continue
         free = rules.max_load * area[cand] - load[cand]

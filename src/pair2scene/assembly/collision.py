@@ -44,6 +44,14 @@ class Tolerances:
 
 TOLERANCES = Tolerances()
 
+AABB_SLACK = 1e-6
+"""m added to every axis-aligned bound before the cheap pre-tests (boxes in
+:func:`obb_overlaps`, convex parts in :class:`MeshWorld`): far below any tolerance, far
+above float rounding, so the pre-tests never drop a pair the exact tests would keep."""
+PART_SLACK = 1e-5
+"""m; convex parts whose bounds are farther apart than this are never handed to fcl
+(its GJK reports no contact beyond its own ~1e-6 tolerance)."""
+
 
 def _fcl():
     try:
@@ -75,24 +83,41 @@ def obb_overlaps(
     hb = np.maximum(np.asarray(halves_b, float) - margin, 0.0)
     ra, rb = np.asarray(rots_a, float), np.asarray(rots_b, float)
     n, m = len(ca), len(cb)
+    out = np.zeros((n, m), bool)
     if n == 0 or m == 0:
-        return np.zeros((n, m), bool)
-    axes_a = np.broadcast_to(ra.transpose(0, 2, 1)[:, None], (n, m, 3, 3))  # rows: a's axes
-    axes_b = np.broadcast_to(rb.transpose(0, 2, 1)[None], (n, m, 3, 3))
-    cross = np.cross(axes_a[:, :, :, None, :], axes_b[:, :, None, :, :]).reshape(n, m, 9, 3)
-    axes = np.concatenate([axes_a, axes_b, cross], axis=2)  # (N, M, 15, 3)
+        return out
+    # Axis-aligned bounds first (half extent along world axis i: sum_j |R_ij| h_j): boxes
+    # whose bounds are apart cannot overlap, so the 15-axis test runs only on the pairs
+    # near each other, a number that grows with the objects, not with their square.
+    ea = np.einsum("nij,nj->ni", np.abs(ra), ha) + AABB_SLACK
+    eb = np.einsum("mij,mj->mi", np.abs(rb), hb) + AABB_SLACK
+    near = (np.abs(cb[None] - ca[:, None]) <= ea[:, None] + eb[None]).all(-1)
+    i, j = np.nonzero(near)
+    if len(i):
+        out[i, j] = _sat_overlap(ca[i], ha[i], ra[i], cb[j], hb[j], rb[j])
+    return out
+
+
+def _sat_overlap(ca, ha, ra, cb, hb, rb) -> np.ndarray:
+    """(K,) whether box pair k (centres (K, 3), half-sizes (K, 3), rotations (K, 3, 3))
+    overlaps: the separating axis theorem on 15 axes a pair."""
+    k = len(ca)
+    axes_a = ra.transpose(0, 2, 1)  # rows: a's axes
+    axes_b = rb.transpose(0, 2, 1)
+    cross = np.cross(axes_a[:, :, None, :], axes_b[:, None, :, :]).reshape(k, 9, 3)
+    axes = np.concatenate([axes_a, axes_b, cross], axis=1)  # (K, 15, 3)
     norm = np.linalg.norm(axes, axis=-1)
     valid = norm > 1e-9
     axes = axes / np.where(valid, norm, 1.0)[..., None]
-    d = cb[None, :, :] - ca[:, None, :]  # (N, M, 3)
-    dist = np.abs(np.einsum("nmkc,nmc->nmk", axes, d))  # (N, M, 15)
+    d = cb - ca  # (K, 3)
+    dist = np.abs(np.einsum("pkc,pc->pk", axes, d))  # (K, 15)
     # Projected radius of a box on axis L: sum_i h_i |L . axis_i|.
-    proj_a = np.einsum("nmkc,nic->nmki", axes, ra.transpose(0, 2, 1))
-    proj_b = np.einsum("nmkc,mic->nmki", axes, rb.transpose(0, 2, 1))
-    rad = (np.abs(proj_a) * ha[:, None, None, :]).sum(-1)
-    rad += (np.abs(proj_b) * hb[None, :, None, :]).sum(-1)
+    proj_a = np.einsum("pkc,pic->pki", axes, axes_a)
+    proj_b = np.einsum("pkc,pic->pki", axes, axes_b)
+    rad = (np.abs(proj_a) * ha[:, None, :]).sum(-1)
+    rad += (np.abs(proj_b) * hb[:, None, :]).sum(-1)
     separated = valid & (dist > rad)
-    return ~separated.any(axis=2)
+    return ~separated.any(axis=1)
 
 
 def _convex_geometry(fcl, vertices: np.ndarray, faces: np.ndarray):
@@ -130,10 +155,21 @@ def clearing_move(pairs: list[tuple[np.ndarray, np.ndarray]], gap: float = 2e-3)
     no pairs."""
     if not pairs:
         return np.zeros(3)
-    directions = np.concatenate([_edge_normals(p) for pair in pairs for p in pair])
+    normals: dict[int, np.ndarray] = {}  # an outline met in several pairs: once
+    for pair in pairs:
+        for p in pair:
+            if id(p) not in normals:
+                normals[id(p)] = _edge_normals(p)
+    directions = np.concatenate([normals[id(p)] for pair in pairs for p in pair])
+    lows: dict[int, np.ndarray] = {}
+    highs: dict[int, np.ndarray] = {}
     need = np.full(len(directions), -np.inf)
     for mine, theirs in pairs:
-        need = np.maximum(need, (theirs @ directions.T).max(0) - (mine @ directions.T).min(0))
+        if id(theirs) not in highs:
+            highs[id(theirs)] = (theirs @ directions.T).max(0)
+        if id(mine) not in lows:
+            lows[id(mine)] = (mine @ directions.T).min(0)
+        need = np.maximum(need, highs[id(theirs)] - lows[id(mine)])
     best = int(np.argmin(need))
     return np.array([*(directions[best] * (need[best] + gap)), 0.0])
 
@@ -148,29 +184,63 @@ class Shape:
             fcl.CollisionObject(_convex_geometry(fcl, p.mesh.vertices, p.mesh.faces))
             for p in asset.parts
         ]
-
+        counts = [len(p.mesh.vertices) for p in asset.parts]
+        self._vertices = np.concatenate([p.mesh.vertices for p in asset.parts]) if counts else None
+        self._starts = np.cumsum([0, *counts[:-1]])
         self.rotation, self.translation = np.eye(3), np.zeros(3)
         self._outlines: list[np.ndarray | None] = [None] * len(self.objects)
+        self._posed: dict[int, np.ndarray] = {}  # this pose's world footprints, by part
+        self._bounds: np.ndarray | None = None  # this pose's part bounds
 
     def set_pose(self, rotation: np.ndarray, translation: np.ndarray) -> None:
         """Place the asset's local frame: world = rotation @ local + translation."""
         fcl = _fcl()
         self.rotation = np.asarray(rotation, float)
         self.translation = np.asarray(translation, float)
+        self._posed, self._bounds = {}, None
         tf = fcl.Transform(self.rotation, self.translation)
         for o in self.objects:
             o.setTransform(tf)
 
+    def part_bounds(self) -> np.ndarray:
+        """(P, 2, 3) world min and max corners of each part in this pose."""
+        if self._bounds is None:
+            if self._vertices is None:
+                self._bounds = np.zeros((0, 2, 3))
+            else:
+                world = self._vertices @ self.rotation.T + self.translation
+                lo = np.minimum.reduceat(world, self._starts)
+                hi = np.maximum.reduceat(world, self._starts)
+                self._bounds = np.stack([lo, hi], axis=1)
+        return self._bounds
+
     def footprint(self, part: int) -> np.ndarray:
         """(K, 2) world xy of the convex outline of one part's projection on the floor,
         counter-clockwise (objects stand upright: the outline turns with their yaw)."""
+        hit = self._posed.get(part)
+        if hit is not None:
+            return hit
         if abs(self.rotation[2, 2] - 1.0) > 1e-9:  # tilted: the outline changes shape
             world = self.asset.parts[part].mesh.vertices @ self.rotation.T
-            return _outline(world) + self.translation[:2]
-        if self._outlines[part] is None:
-            self._outlines[part] = _outline(self.asset.parts[part].mesh.vertices)
-        xy = self._outlines[part] @ self.rotation[:2, :2].T
-        return xy + self.translation[:2]
+            xy = _outline(world) + self.translation[:2]
+        else:
+            if self._outlines[part] is None:
+                self._outlines[part] = _outline(self.asset.parts[part].mesh.vertices)
+            xy = self._outlines[part] @ self.rotation[:2, :2].T + self.translation[:2]
+        self._posed[part] = xy
+        return xy
+
+
+def _near_parts(a: Shape, b: Shape) -> tuple[np.ndarray, np.ndarray]:
+    """Indices (i, j) of the part pairs of two posed shapes whose bounds meet (within
+    :data:`PART_SLACK`), in the order of a loop over a's parts, then b's: only these can
+    touch or penetrate."""
+    pa, pb = a.part_bounds(), b.part_bounds()
+    near = (
+        (pa[:, None, 0] <= pb[None, :, 1] + PART_SLACK)
+        & (pb[None, :, 0] <= pa[:, None, 1] + PART_SLACK)
+    ).all(-1)
+    return np.nonzero(near)
 
 
 class MeshWorld:
@@ -192,12 +262,11 @@ class MeshWorld:
         fcl = _fcl()
         request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
         deepest = 0.0
-        for oa in a.objects:
-            for ob in b.objects:
-                result = fcl.CollisionResult()
-                if fcl.collide(oa, ob, request, result):
-                    depth = max((c.penetration_depth for c in result.contacts), default=0.0)
-                    deepest = max(deepest, depth)
+        for i, j in zip(*_near_parts(a, b)):
+            result = fcl.CollisionResult()
+            if fcl.collide(a.objects[i], b.objects[j], request, result):
+                depth = max((c.penetration_depth for c in result.contacts), default=0.0)
+                deepest = max(deepest, depth)
         return deepest
 
     def push_out(self, candidate: Shape, against: Iterable[str]) -> np.ndarray:
@@ -219,13 +288,12 @@ class MeshWorld:
             if other is None:
                 continue
             touch = self.touch_between(candidate, other)
-            for i, oa in enumerate(candidate.objects):
-                for j, ob in enumerate(other.objects):
-                    result = fcl.CollisionResult()
-                    if fcl.collide(oa, ob, request, result) and any(
-                        c.penetration_depth > touch for c in result.contacts
-                    ):
-                        pairs.append((candidate.footprint(i), other.footprint(j)))
+            for i, j in zip(*_near_parts(candidate, other)):
+                result = fcl.CollisionResult()
+                if fcl.collide(candidate.objects[i], other.objects[j], request, result) and any(
+                    c.penetration_depth > touch for c in result.contacts
+                ):
+                    pairs.append((candidate.footprint(i), other.footprint(j)))
         return clearing_move(pairs)
 
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:

@@ -8,6 +8,7 @@ for whatever small overshoot a generator leaves.
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -42,6 +43,13 @@ class Generator:
 
 
 REGISTRY: dict[str, Generator] = {}
+
+BUILT_CACHE_ENTRIES = 1024
+"""Assets :func:`generate` keeps, by (category, size, seed, style, support heights):
+more than a scene of the largest size holds, so rebuilding a scene (a resumed run, a
+kept object, curtains cut to a window tried twice) reuses its assets and everything
+computed from them (support surfaces, point clouds); ~40 kB an asset."""
+_BUILT: OrderedDict[tuple, Asset] = OrderedDict()
 
 
 def register(
@@ -106,6 +114,23 @@ def generate(
     size = np.maximum(np.asarray(size, dtype=float).reshape(3), MIN_SIZE_M)
     if not np.all(np.isfinite(size)):
         raise UserError(f"asset size must be finite, got {size.tolist()}")
+    key = None
+    if isinstance(rng, (int, np.integer)):  # a seed: same key, same asset (assets are frozen)
+        key = (category, size.tobytes(), int(rng), style,
+               None if support_heights is None else tuple(map(float, support_heights)))  # fmt: skip
+        hit = _BUILT.get(key)
+        if hit is not None:
+            _BUILT.move_to_end(key)
+            return hit
+    asset = _build(category, size, rng, style, support_heights)
+    if key is not None:
+        _BUILT[key] = asset
+        if len(_BUILT) > BUILT_CACHE_ENTRIES:
+            _BUILT.popitem(last=False)
+    return asset
+
+
+def _build(category, size, rng, style, support_heights) -> Asset:
     gen = generators().get(category)
     if gen is None:
         if category != UNKNOWN and category not in BY_NAME:
