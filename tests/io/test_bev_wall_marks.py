@@ -119,7 +119,8 @@ def test_the_glb_has_the_wall_objects_at_their_boxes():
     nodes = set(loaded.graph.nodes_geometry)
     assert {"painting_0", "curtains_0", "bed_0"} <= nodes
     for oid, box in (("painting_0", PAINTING), ("curtains_0", CURTAINS)):
-        transform, geom = loaded.graph[oid]
+        # relative to the root node: the file's y-up rotation undone, our z-up world
+        transform, geom = loaded.graph.get(oid, frame_from="pair2scene")
         mesh = loaded.geometry[geom].copy()
         mesh.apply_transform(transform)
         lo, hi = box.aabb()
