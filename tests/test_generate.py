@@ -80,12 +80,18 @@ def test_cli_writes_folders_summary_and_resumes(tmp_path):
     assert summary["totals"]["scenes"] == 2
     for sid in ("bedroom_0007", "bedroom_0008"):
         folder = out / sid
-        assert sorted(p.name for p in folder.iterdir()) == ["bev.png", "scene.glb", "scene.json"]
+        assert sorted(p.name for p in folder.iterdir()) == [
+            "bev.png",
+            "scene.glb",
+            "scene.html",
+            "scene.json",
+        ]
         scene = read_scene(folder / "scene.json")
         assert scene.stats["objects_placed"] == len(scene.objects)
     before = (out / "bedroom_0007" / "scene.json").read_bytes()
     proc = run_cli("generate", "--room", "bedroom", "--num", "2", "--seed", "7", "--out", str(out))
     assert proc.returncode == 0 and (out / "bedroom_0007" / "scene.json").read_bytes() == before
+    assert "bedroom_0008/scene.html" in (out / "index.html").read_text()  # the gallery
     again = tmp_path / "again"
     proc = run_cli("generate", "--room", "bedroom", "--seed", "7", "--out", str(again))
     assert proc.returncode == 0

@@ -51,7 +51,7 @@ def check_clean(out: Path) -> None:
     names = visible_scenes(out)
     for name in names:
         files = sorted(p.name for p in (out / name).iterdir())
-        assert files == ["bev.png", "scene.glb", "scene.json"], (name, files)
+        assert files == ["bev.png", "scene.glb", "scene.html", "scene.json"], (name, files)
         assert read_scene(out / name / "scene.json").id == name
     assert len(scene_files(out)) == len(names)
     assert len(load_scene_dir(out).scenes) == len(names)

@@ -41,6 +41,7 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
+from pair2scene.io.export import ExportConfig
 from pair2scene.io.summary import Summary, resume_summary
 from pair2scene.scene.model import FLOOR, Scene, on_wall
 
@@ -496,6 +497,7 @@ def generate_scenes(
     ablation: str | Sequence[str] | None = None,
     config: GenerateConfig | None = None,
     stats: str | Path | None = None,
+    export: ExportConfig | None = None,
 ) -> Summary:
     """``num`` scenes (seeds ``seed`` .. ``seed + num - 1``) into ``out``, each in
     ``out/<id>/``; returns the summary (also written as ``out/summary.json``). Scenes
@@ -509,6 +511,9 @@ def generate_scenes(
     ablation : any of ``no-rejection``, ``no-gravity``, ``no-confine`` (:func:`ablation_config`).
     stats : the ``stats.json`` of your own curation (:func:`own_tables`); None: the bundled
         statistics and tables.
+    export : what each scene folder holds (:class:`~pair2scene.io.export.ExportConfig`:
+        scene.json, scene.glb, bev.png and scene.html by default; MuJoCo, USD, URDF on
+        request); with scene.html, ``out/index.html`` is a gallery of every scene.
 
     Bad input is a one-line UserError before anything is written (``out`` is created only
     then); an output folder that cannot be written is one too. A killed run's leftovers
@@ -517,6 +522,7 @@ def generate_scenes(
     """
     from pair2scene.io.export import write_scene_folder
     from pair2scene.io.names import scene_folder
+    from pair2scene.io.viewer import write_index
     from pair2scene.progress import track
 
     if room is not None and text is not None:
@@ -526,6 +532,8 @@ def generate_scenes(
     if num < 1:
         raise UserError("--num must be >= 1")
     ablations = ablation_names(ablation)
+    export = export or ExportConfig()
+    formats = export.format_list()
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise UserError(f"{out}: exists and is not a folder")
@@ -566,7 +574,7 @@ def generate_scenes(
             result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid,
                                   keep=kept, settle=settle)  # fmt: skip
             _writing(out, write_scene_folder, scene_folder(out, sid), result.scene,
-                     result.assets)  # fmt: skip
+                     result.assets, formats, export.dynamic)  # fmt: skip
             summary.add({"id": sid, **result.stats.to_dict()})
             if write_seconds <= SUMMARY_WRITE_SHARE * (time.monotonic() - since):
                 start = time.monotonic()
@@ -574,6 +582,8 @@ def generate_scenes(
                 write_seconds, since = time.monotonic() - start, time.monotonic()
         summary.totals = summary.compute_totals()
         _writing(out, summary.write, out)
+        if "html" in formats:
+            _writing(out, write_index, out)
     return summary
 
 

@@ -9,7 +9,7 @@ import pytest
 from PIL import Image
 
 from pair2scene.assets.registry import generate
-from pair2scene.io.export import SCENE_FILES, write_scene_folder
+from pair2scene.io.export import DEFAULT_FORMATS, FORMATS, write_scene_folder
 from pair2scene.io.scene_json import read_scene
 from pair2scene.io.scene_meshes import room_color, room_meshes, semantic_color
 from pair2scene.scene.geometry import OrientedBox
@@ -34,7 +34,12 @@ def small_scene():
 def test_folder_has_all_three_and_scene_json_reads_back(tmp_path):
     scene, assets = small_scene()
     folder = write_scene_folder(tmp_path / "s0", scene, assets)
-    assert sorted(p.name for p in folder.iterdir()) == ["bev.png", "scene.glb", "scene.json"]
+    assert sorted(p.name for p in folder.iterdir()) == [
+        "bev.png",
+        "scene.glb",
+        "scene.html",
+        "scene.json",
+    ]
     back = read_scene(folder / "scene.json")
     assert [o.id for o in back.objects] == ["bed_0", "side_table_0", "table_lamp_0"]
     assert (
@@ -84,7 +89,12 @@ def test_a_summary_in_another_shape_is_one_line(tmp_path):
 
 
 def test_every_scene_file_has_one_exporter():
-    assert list(SCENE_FILES) == ["scene.json", "scene.glb", "bev.png"]
+    assert [FORMATS[f].entry for f in DEFAULT_FORMATS] == [
+        "scene.json",
+        "scene.glb",
+        "bev.png",
+        "scene.html",
+    ]
 
 
 def test_windows_are_cut_into_their_wall_with_a_pane_and_marked_in_the_top_view():

@@ -20,6 +20,7 @@ import typer
 from pair2scene.cli.assets import assets_app
 from pair2scene.cli.curate import curate
 from pair2scene.cli.evaluate import evaluate_command
+from pair2scene.cli.export import export_command
 from pair2scene.cli.generate import generate_command
 from pair2scene.cli.hierarchy import hierarchy_command
 from pair2scene.cli.model import pretrain_command, score_command, train_command
@@ -47,6 +48,7 @@ app.command("score")(score_command)
 app.command("hierarchy")(hierarchy_command)
 app.command("generate")(generate_command)
 app.command("evaluate")(evaluate_command)
+app.command("export")(export_command)
 
 
 @data_app.command("fetch")

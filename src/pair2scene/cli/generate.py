@@ -21,10 +21,11 @@ from pair2scene.cli.checks import (
     out_option,
     writable_folder,
 )
-from pair2scene.cli.options import with_config
+from pair2scene.cli.options import field_help, with_config
 from pair2scene.generate import GenerateConfig
 from pair2scene.hierarchy.build import LLM_CHOICES
 from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, MODES
+from pair2scene.io.export import ExportConfig
 
 
 @with_config(GenerateConfig)
@@ -99,10 +100,17 @@ def generate_command(
             "side for more)."
         ),
     ] = None,
+    formats: Annotated[
+        str, typer.Option(help=field_help(ExportConfig, "formats"))
+    ] = ExportConfig.formats,
+    dynamic: Annotated[
+        str, typer.Option(help=field_help(ExportConfig, "dynamic"))
+    ] = ExportConfig.dynamic,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     config: GenerateConfig | None = None,
 ) -> None:
-    """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png and OUT/summary.json.
+    """Generate scenes: OUT/<scene_id>/scene.json, scene.glb, bev.png, scene.html (and the
+    --formats asked for), OUT/index.html (a gallery) and OUT/summary.json.
 
     Every setting of generation (how hierarchies are drawn and placed) is an option below,
     named by its place in the config: --hierarchy.k, --assembly.temperature...
@@ -116,13 +124,16 @@ def generate_command(
     check_choice(llm, "--llm", LLM_CHOICES)
     existing_file(keep, "--keep")
     existing_file(stats, "--stats")
+    export = ExportConfig(formats, dynamic)
+    export.format_list()
     out = writable_folder(out, "--out")
     from pair2scene.generate import generate_scenes, set_threads
 
     set_threads(threads)
     summary = generate_scenes(out, room, text, num, seed, mode, max_objects, model, llm,
                               progress=not as_json, keep=keep, settle=settle,
-                              ablation=ablation, config=config, stats=stats)  # fmt: skip
+                              ablation=ablation, config=config, stats=stats,
+                              export=export)  # fmt: skip
     if as_json:
         typer.echo(json.dumps(summary.to_dict(), indent=1))
         return

@@ -146,6 +146,13 @@ def apply_options(config: Any, values: dict[tuple[str, ...], Any]) -> Any:
     return dataclasses.replace(config, **direct) if direct else config
 
 
+def field_help(cls: type, name: str) -> str:
+    """The docstring of one field of a config class as plain help text (roles and
+    backquotes removed), for commands that list such a field as an option of their own."""
+    text = re.sub(r":\w+:`~?([^`]+)`", r"\1", " ".join(field_docs(cls)[name].split()))
+    return text.replace("``", "").replace("`", "")
+
+
 def _help(option: ConfigOption) -> str:
     """The docstring's first sentence (the rest, with its measurements, is in the code and
     the API docs) and the default."""

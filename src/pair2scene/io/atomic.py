@@ -11,9 +11,10 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import shutil
 import stat
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO
 
@@ -89,3 +90,38 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
     with atomic_open(path, "wb") as fh:
         fh.write(data)
+
+
+OLD_HOLDER = "old."
+"""The part of a temporary folder's name that marks the holder of a folder being
+replaced (``.<name>.old.<random>``, the folder inside as ``x``)."""
+
+
+def replace_folder(folder: str | os.PathLike, fill: Callable[[Path], object]) -> Path:
+    """Make ``folder`` whole or not at all: ``fill(tmp)`` writes its content into a hidden
+    temporary folder beside it (``.<name>.<random>``), which is then renamed into place;
+    a folder already there is moved aside first (into ``.<name>.old.<random>/x``) and
+    removed after. On any exception the temporary folder is removed and the previous
+    folder put back. The new folder gets the mode a plain mkdir gives."""
+    folder = Path(folder)
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}."))
+    old: Path | None = None
+    try:
+        fill(tmp)
+        os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp makes 0700
+        if folder.exists():
+            old = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.{OLD_HOLDER}"))
+            folder.rename(old / "x")
+        tmp.rename(folder)
+    except BaseException:
+        if old is not None and not folder.exists():  # interrupted between the renames
+            with contextlib.suppress(OSError):
+                (old / "x").rename(folder)  # the previous folder goes back
+        shutil.rmtree(tmp, ignore_errors=True)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+    return folder

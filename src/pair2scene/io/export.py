@@ -23,68 +23,168 @@ import os
 import re
 import shutil
 import stat
-import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from pair2scene.assets.mesh import Asset
-from pair2scene.io.atomic import atomic_write_bytes, current_umask, is_temporary
-from pair2scene.io.bev import bev_png
-from pair2scene.io.glb import glb_bytes
+from pair2scene.errors import UserError
+from pair2scene.io.atomic import atomic_write_bytes, is_temporary, replace_folder
 from pair2scene.io.scene_json import dumps_scene
 from pair2scene.scene.model import Scene
 
 Exporter = Callable[[Scene, "dict[str, Asset]"], bytes]
+DEFAULT_FORMATS = ("json", "glb", "png", "html")
+"""What a scene folder holds unless asked otherwise (:attr:`ExportConfig.formats`)."""
 
-SCENE_FILES: dict[str, Exporter] = {
-    "scene.json": lambda scene, assets: dumps_scene(scene).encode("utf-8"),
-    "scene.glb": glb_bytes,
-    "bev.png": bev_png,
+
+@dataclass(frozen=True)
+class ExportConfig:
+    """What a scene folder holds (``--formats``) and how simulator exports treat bodies
+    (``--dynamic``)."""
+
+    formats: str = ",".join(DEFAULT_FORMATS)
+    """Comma-separated formats written into each scene folder: json (scene.json, always),
+    glb (scene.glb, the room in glTF's y-up frame), png (bev.png, the top view), html
+    (scene.html, a self-contained viewer page), mjcf (mjcf/scene.xml and its meshes, for
+    MuJoCo, Genesis, robosuite), usd (scene.usdc with UsdPhysics, for Isaac Sim; needs
+    ``pair2scene[usd]``), urdf (urdf/: one URDF per object, scene.urdf and
+    scene_urdf.json, for PyBullet, SAPIEN, ManiSkill)."""
+    dynamic: str = "small"
+    """Which objects are free bodies in mjcf, usd and urdf: small (small objects; large
+    furniture, fixtures and wall objects fixed), all (everything but fixtures and wall
+    objects) or none (everything fixed)."""
+
+    def format_list(self) -> tuple[str, ...]:
+        """The formats, checked and in :data:`FORMATS` order (json always among them); an
+        unknown one is a one-line :class:`~pair2scene.errors.UserError`."""
+        from pair2scene.io.physical import DYNAMIC_CHOICES
+
+        names = {f.strip() for f in self.formats.split(",") if f.strip()}
+        bad = sorted(names - set(FORMATS))
+        if bad:
+            raise UserError(
+                f"--formats: unknown {', '.join(bad)} (choose from {', '.join(FORMATS)})"
+            )
+        if self.dynamic not in DYNAMIC_CHOICES:
+            raise UserError(f"--dynamic must be one of {', '.join(DYNAMIC_CHOICES)}")
+        if "usd" in names:
+            try:
+                import pxr  # noqa: F401
+            except ImportError:
+                raise UserError(
+                    "--formats usd needs usd-core: pip install 'pair2scene[usd]'"
+                ) from None
+        return tuple(f for f in FORMATS if f in names or f == "json")
+
+
+@dataclass(frozen=True)
+class Format:
+    """One format of a scene folder: the file or folder it makes and how."""
+
+    entry: str
+    """Its name in the scene folder."""
+    write: Callable[[Path, Scene, dict[str, Asset], str], object]
+    """write(path of the entry, scene, assets, dynamic)."""
+    folder: bool = False
+    """The entry is a folder (its writer makes it whole, or not at all)."""
+
+
+def _bytes_format(entry: str, export: Exporter) -> Format:
+    return Format(
+        entry, lambda path, scene, assets, _: atomic_write_bytes(path, export(scene, assets))
+    )
+
+
+def _glb(scene: Scene, assets: dict[str, Asset]) -> bytes:
+    from pair2scene.io.glb import glb_bytes  # (the writers load when used: the CLI starts fast)
+
+    return glb_bytes(scene, assets)
+
+
+def _bev(scene: Scene, assets: dict[str, Asset]) -> bytes:
+    from pair2scene.io.bev import bev_png
+
+    return bev_png(scene, assets)
+
+
+def _html(path: Path, scene: Scene, assets: dict[str, Asset], _: str) -> None:
+    from pair2scene.io.viewer import scene_html
+
+    atomic_write_bytes(path, scene_html(scene, assets, back_link=f"../{INDEX_HTML}"))
+
+
+def _mjcf(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+    from pair2scene.io.mjcf import write_mjcf
+
+    write_mjcf(scene, assets, path, dynamic)
+
+
+def _usd(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+    from pair2scene.io.usd import write_usd
+
+    write_usd(scene, assets, path, dynamic)
+
+
+def _urdf(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+    from pair2scene.io.urdf import write_urdf
+
+    write_urdf(scene, assets, path, dynamic)
+
+
+FORMATS: dict[str, Format] = {
+    "json": _bytes_format("scene.json", lambda scene, _: dumps_scene(scene).encode("utf-8")),
+    "glb": _bytes_format("scene.glb", lambda scene, assets: _glb(scene, assets)),
+    "png": _bytes_format("bev.png", lambda scene, assets: _bev(scene, assets)),
+    "html": Format("scene.html", _html),
+    "mjcf": Format("mjcf", _mjcf, folder=True),
+    "usd": Format("scene.usdc", _usd),
+    "urdf": Format("urdf", _urdf, folder=True),
 }
-"""File name in a scene folder -> its exporter."""
+"""Format name -> what it writes into a scene folder (:class:`ExportConfig` says which)."""
+INDEX_HTML = "index.html"
+"""The gallery of an output folder (:func:`pair2scene.io.viewer.write_index`), which each
+scene.html links back to."""
+SCENE_ENTRIES = frozenset(f.entry for f in FORMATS.values())
+"""Every name a scene folder may hold."""
+FOLDER_ENTRIES = frozenset(f.entry for f in FORMATS.values() if f.folder)
+_TEMP_ENTRY = re.compile(
+    r"\.(" + "|".join(re.escape(e) for e in sorted(SCENE_ENTRIES)) + r")\.(old\.)?[a-z0-9_]+"
+)
+"""A temporary folder a format's writer makes beside its entry while writing."""
 
 
-OLD_HOLDER = "old."
-"""The part of a temporary folder's name that marks a replaced scene folder's holder."""
 _TEMP_FOLDER = re.compile(r"\.[A-Za-z0-9][A-Za-z0-9._-]*\.(old\.)?[a-z0-9_]+")
 """A name :func:`write_scene_folder` gives its temporary folders (``.<id>.<random>``,
 ``.<id>.old.<random>``; ``<id>`` is a :func:`pair2scene.io.names.safe_name`)."""
 
 
-def write_scene_folder(folder: str | Path, scene: Scene, assets: dict[str, Asset]) -> Path:
-    """Write every file of :data:`SCENE_FILES` into ``folder`` atomically (all appear
-    together, or the folder is left as it was). The folder gets the mode a plain mkdir
-    gives (``0o777`` less the umask), its files what a plain open gives."""
-    folder = Path(folder)
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}."))
-    old: Path | None = None
-    try:
-        for name, export in SCENE_FILES.items():
-            atomic_write_bytes(tmp / name, export(scene, assets))
-        os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp makes 0700
-        if folder.exists():
-            old = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.{OLD_HOLDER}"))
-            folder.rename(old / "x")
-        tmp.rename(folder)
-    except BaseException:
-        if old is not None and not folder.exists():  # interrupted between the renames
-            with contextlib.suppress(OSError):
-                (old / "x").rename(folder)  # the previous folder goes back
-        shutil.rmtree(tmp, ignore_errors=True)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-    return folder
+def write_scene_folder(
+    folder: str | Path,
+    scene: Scene,
+    assets: dict[str, Asset],
+    formats: Sequence[str] = DEFAULT_FORMATS,
+    dynamic: str = "small",
+) -> Path:
+    """Write the ``formats`` (names of :data:`FORMATS`; scene.json always) into ``folder``
+    atomically (all appear together, or the folder is left as it was). The folder gets the
+    mode a plain mkdir gives (``0o777`` less the umask), its files what a plain open
+    gives. ``dynamic``: the free bodies of the simulator formats."""
+
+    def fill(tmp: Path) -> None:
+        for name in dict.fromkeys(["json", *formats]):
+            form = FORMATS[name]
+            form.write(tmp / form.entry, scene, assets, dynamic)
+
+    return replace_folder(folder, fill)
 
 
 def _written_here(folder: str, depth: int = 0) -> bool:
     """Whether ``folder`` holds nothing but what :func:`write_scene_folder` writes: the
-    :data:`SCENE_FILES`, their temporary files and (a holder) one replaced scene folder
-    ``x``. At most a handful of entries are looked at."""
-    allowed = len(SCENE_FILES) * 2 + 1
+    :data:`FORMATS`' entries, their writers' temporary files and folders and (a holder)
+    one replaced scene folder ``x``. At most a handful of entries are looked at; the
+    simulator formats' folders are not looked into."""
+    allowed = len(SCENE_ENTRIES) * 2 + 1
     try:
         with os.scandir(folder) as it:
             for n, entry in enumerate(it):
@@ -92,11 +192,14 @@ def _written_here(folder: str, depth: int = 0) -> bool:
                     return False
                 kind = entry.stat(follow_symlinks=False).st_mode
                 if stat.S_ISDIR(kind):
-                    if depth or entry.name != "x" or not _written_here(entry.path, 1):
+                    if entry.name == "x" and not depth:
+                        if not _written_here(entry.path, 1):
+                            return False
+                    elif not (entry.name in FOLDER_ENTRIES or _TEMP_ENTRY.fullmatch(entry.name)):
                         return False
                 elif not stat.S_ISREG(kind) or not (
-                    entry.name in SCENE_FILES
-                    or any(is_temporary(entry.name, f) for f in SCENE_FILES)
+                    entry.name in SCENE_ENTRIES
+                    or any(is_temporary(entry.name, f) for f in SCENE_ENTRIES)
                 ):
                     return False
     except OSError:
@@ -131,3 +234,33 @@ def remove_stale_scene_folders(out: str | Path) -> list[str]:
         if not path.exists():
             removed.append(path.name)
     return removed
+
+
+def export_scene(
+    source: str | Path,
+    formats: Sequence[str],
+    dynamic: str = "small",
+    out: str | Path | None = None,
+) -> Path:
+    """Add ``formats`` to a scene written earlier: ``source`` is a scene folder (its
+    scene.json) or a scene.json file; the files go beside it (or into ``out``). The assets
+    are rebuilt from scene.json (exactly the generated ones: scene.json records each
+    object's generator seed). Each entry is written atomically; scene.json itself is left
+    as it is. Returns the folder written to."""
+    from pair2scene.assembly.keep import keep_assets
+    from pair2scene.io.scene_json import read_scene
+
+    source = Path(source)
+    path = source / FORMATS["json"].entry if source.is_dir() else source
+    if not path.is_file():
+        raise UserError(f"{source}: no scene.json there")
+    scene = read_scene(path)
+    folder = Path(out) if out is not None else path.parent
+    folder.mkdir(parents=True, exist_ok=True)
+    assets = keep_assets(scene)
+    for name in formats:
+        if name == "json" and out is None:
+            continue  # it is the source
+        form = FORMATS[name]
+        form.write(folder / form.entry, scene, assets, dynamic)
+    return folder
