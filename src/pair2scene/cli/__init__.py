@@ -19,6 +19,7 @@ import typer
 
 from pair2scene.cli.assets import assets_app
 from pair2scene.cli.curate import curate
+from pair2scene.cli.dataset import dataset_app
 from pair2scene.cli.evaluate import evaluate_command
 from pair2scene.cli.export import export_command
 from pair2scene.cli.generate import generate_command
@@ -40,6 +41,7 @@ app = typer.Typer(
 data_app = typer.Typer(help="Scene corpora: fetch them, inspect them.", no_args_is_help=True)
 app.add_typer(data_app, name="data")
 app.add_typer(assets_app, name="assets")
+app.add_typer(dataset_app, name="dataset")
 app.command("curate")(curate)
 
 app.command("pretrain")(pretrain_command)

@@ -1,0 +1,320 @@
+"""Running the plan: which shards still need making, who makes them, and the progress.
+
+``local``: ``--jobs`` worker processes (the ``spawn`` context: no forked torch state),
+each loading the model once in its initializer with one torch thread; a task is a shard;
+workers report each scene through a queue, for one progress bar over all of them. With
+``--jobs 1`` the shards are made in this process.
+
+``ray``: ``--jobs`` Ray actors, each loading the model once; a task is a shard; a task
+that fails (an error, or its actor killed: the actor is restarted) is submitted again, up
+to :data:`SHARD_ATTEMPTS` times, so a lost worker costs only its shard. The actors write
+into ``OUT`` themselves: on a cluster, ``OUT`` must be on a file system every node sees.
+
+Every shard is written whole or not at all (:func:`pair2scene.dataset.shards.make_shard`)
+and the scenes are the same bytes whichever worker makes them.
+"""
+
+from __future__ import annotations
+
+import queue as queue_module
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pair2scene.dataset.plan import DatasetConfig, PlannedScene, plan_shards, slice_shards
+from pair2scene.dataset.shards import (
+    dataset_lock,
+    make_shard,
+    open_dataset,
+    shard_problem,
+    write_index,
+)
+from pair2scene.errors import UserError
+
+EXECUTORS = ("local", "ray")
+"""The ``--executor`` choices."""
+SHARD_ATTEMPTS = 3
+"""Ray: how many times a shard is tried before the run fails."""
+ACTOR_RESTARTS = 4
+"""Ray: how many times a killed actor is restarted."""
+POLL_SECONDS = 0.2
+"""How often the progress loop looks at the workers' reports."""
+RAY_HINT = "--executor ray needs Ray: pip install 'pair2scene[ray]' (or pip install 'ray>=2.9')"
+"""The one line shown when Ray is not importable."""
+
+
+@dataclass
+class RunSummary:
+    """What a run did."""
+
+    scenes: int = 0
+    """Scenes made by this run."""
+    skipped_shards: int = 0
+    """Shards already whole (resumed)."""
+    shards: int = 0
+    """Shards made by this run."""
+    seconds: float = 0.0
+    objects_placed: int = 0
+    objects_requested: int = 0
+    drops: Counter = field(default_factory=Counter)
+    """Drop reason -> count, over the scenes made."""
+    index_written: bool = False
+    """Whether OUT/index.jsonl was written (every shard of the plan is whole)."""
+
+    def add(self, record: dict) -> None:
+        self.scenes += 1
+        self.objects_placed += record["objects_placed"]
+        self.objects_requested += record["objects_requested"]
+        self.drops.update(record["drops"])
+
+    @property
+    def scenes_per_minute(self) -> float:
+        return 60.0 * self.scenes / self.seconds if self.seconds > 0 else 0.0
+
+    def lines(self) -> list[str]:
+        """The summary printed at the end."""
+        out = [
+            f"{self.scenes} scenes in {self.shards} shards ({self.skipped_shards} shards already "
+            f"done) in {self.seconds:.1f} s: {self.scenes_per_minute:.1f} scenes per minute; "
+            f"{self.objects_placed} of {self.objects_requested} objects placed"
+        ]
+        if self.drops:
+            top = ", ".join(f"{reason}: {n}" for reason, n in self.drops.most_common(8))
+            out.append(f"drops by reason: {top}")
+        return out
+
+
+# --- workers ---------------------------------------------------------------------------
+
+_GENERATOR = None
+"""This process's generator (loaded once: in a worker's initializer, or on first use)."""
+_REPORTS = None
+"""The queue a local worker reports its scenes on."""
+
+
+def _generator():
+    global _GENERATOR
+    if _GENERATOR is None:
+        from pair2scene.generate import Pair2Scene, set_threads
+
+        set_threads(1)
+        _GENERATOR = Pair2Scene.from_pretrained()
+    return _GENERATOR
+
+
+def _init_worker(reports) -> None:
+    """A local worker's initializer: the model, once; the progress queue."""
+    global _REPORTS
+    _REPORTS = reports
+    _generator()
+
+
+def _worker_shard(out: str, config: DatasetConfig, index: int, items: list[PlannedScene]) -> list:
+    """A local worker's task: make one shard, reporting each scene."""
+
+    def report(record: dict) -> None:
+        if _REPORTS is not None:
+            _REPORTS.put(record)
+
+    return make_shard(Path(out), config, index, items, _generator(), report)
+
+
+class _ShardActor:
+    """A Ray actor: the model, once; a task is a shard."""
+
+    def __init__(self) -> None:
+        _generator()
+
+    def make(self, out: str, config: DatasetConfig, index: int, items: list) -> list:
+        return make_shard(Path(out), config, index, items, _generator())
+
+
+# --- the run ---------------------------------------------------------------------------
+
+
+def pending_shards(
+    out: Path, config: DatasetConfig, part: tuple[int, int]
+) -> tuple[list[tuple[int, list[PlannedScene]]], int]:
+    """The shards of slice ``part`` still to make (missing, partial or corrupt) and how
+    many of the slice are whole already."""
+    plan = plan_shards(config)
+    todo, done = [], 0
+    for i in slice_shards(len(plan), part):
+        if shard_problem(out, config, i, plan[i]) is None:
+            done += 1
+        else:
+            todo.append((i, plan[i]))
+    return todo, done
+
+
+def run_dataset(
+    out: str | Path,
+    config: DatasetConfig,
+    executor: str = "local",
+    jobs: int = 1,
+    part: tuple[int, int] = (0, 1),
+    ray_address: str | None = None,
+    progress: bool = True,
+) -> RunSummary:
+    """Make the dataset ``config`` in ``out`` (or the slice ``part`` = (i, N) of its
+    shards): shards already whole are kept, others made; ``OUT/index.jsonl`` is written
+    once every shard of the plan is whole. Returns what the run did."""
+    if executor not in EXECUTORS:
+        raise UserError(f"--executor {executor!r}: choose one of {', '.join(EXECUTORS)}")
+    ray = _import_ray() if executor == "ray" else None
+    out = Path(out)
+    open_dataset(out, config)
+    summary = RunSummary()
+    start = time.monotonic()
+    with dataset_lock(out, shared=part[1] > 1):
+        todo, summary.skipped_shards = pending_shards(out, config, part)
+        total = sum(len(items) for _, items in todo)
+        with _Bar(total, progress) as bar:
+
+            def done(record: dict) -> None:
+                summary.add(record)
+                bar.advance()
+
+            if not todo:
+                pass
+            elif executor == "ray":
+                _run_ray(ray, out, config, todo, jobs, ray_address, done)
+            elif jobs == 1:
+                generator = _generator()
+                for index, items in todo:
+                    make_shard(out, config, index, items, generator, done)
+            else:
+                _run_local(out, config, todo, jobs, done)
+        summary.shards = len(todo)
+        summary.seconds = time.monotonic() - start
+        summary.index_written = write_index(out, config) is not None
+    return summary
+
+
+def _run_local(out: Path, config: DatasetConfig, todo: list, jobs: int, done) -> None:
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    context = multiprocessing.get_context("spawn")
+    reports = context.Queue()
+    pool = ProcessPoolExecutor(min(jobs, len(todo)), mp_context=context,
+                               initializer=_init_worker, initargs=(reports,))  # fmt: skip
+    try:
+        futures = [pool.submit(_worker_shard, str(out), config, i, items) for i, items in todo]
+        pending = set(futures)
+        while pending:
+            _drain(reports, done)
+            finished = {f for f in pending if f.done()}
+            for f in finished:
+                f.result()  # (a worker's error ends the run; a rerun resumes)
+            pending -= finished
+        _drain(reports, done, wait=False)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _drain(reports, done, wait: bool = True) -> None:
+    try:
+        record = reports.get(timeout=POLL_SECONDS) if wait else reports.get_nowait()
+        done(record)
+        while True:
+            done(reports.get_nowait())
+    except queue_module.Empty:
+        pass
+
+
+def _import_ray():
+    try:
+        import ray
+    except ImportError:
+        raise UserError(RAY_HINT) from None
+    return ray
+
+
+def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
+             address: str | None, done) -> None:  # fmt: skip
+    """Shards on ``jobs`` Ray actors (progress per shard); a failed shard is retried."""
+    started = not ray.is_initialized()
+    if started:
+        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+    try:
+        actor_class = ray.remote(num_cpus=1, max_restarts=ACTOR_RESTARTS,
+                                 max_task_retries=SHARD_ATTEMPTS - 1)(_ShardActor)  # fmt: skip
+        actors = [actor_class.remote() for _ in range(min(jobs, len(todo)))]
+        queue = list(todo)
+        attempts: Counter = Counter()
+        running: dict = {}  # ref -> (actor, index, items)
+        idle = list(actors)
+        while queue or running:
+            while queue and idle:
+                index, items = queue.pop(0)
+                actor = idle.pop()
+                ref = actor.make.remote(str(out), config, index, items)
+                running[ref] = (actor, index, items)
+            ready, _ = ray.wait(list(running), num_returns=1)
+            ref = ready[0]
+            actor, index, items = running.pop(ref)
+            idle.append(actor)
+            try:
+                records = ray.get(ref)
+            except (ray.exceptions.RayError, OSError) as e:
+                attempts[index] += 1
+                if attempts[index] >= SHARD_ATTEMPTS:
+                    raise UserError(
+                        f"shard {index} failed {SHARD_ATTEMPTS} times; last: {_first_line(e)}"
+                    ) from None
+                queue.append((index, items))
+                continue
+            for record in records:
+                done(record)
+    finally:
+        if started:
+            ray.shutdown()
+
+
+def _first_line(e: BaseException) -> str:
+    text = str(e).strip().splitlines()
+    return text[-1] if text else type(e).__name__
+
+
+class _Bar:
+    """One progress bar over all workers: scenes done, scenes per minute, time left."""
+
+    def __init__(self, total: int, enabled: bool) -> None:
+        self.total, self.enabled = total, enabled and total > 0
+        self.progress = self.task = None
+
+    def __enter__(self) -> _Bar:
+        if self.enabled:
+            from rich.console import Console
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            self.progress = Progress(
+                TextColumn("scenes"), BarColumn(), MofNCompleteColumn(),
+                TextColumn("{task.fields[rate]}"), TimeElapsedColumn(), TimeRemainingColumn(),
+                console=Console(stderr=True),
+            )  # fmt: skip
+            self.progress.__enter__()
+            self.task = self.progress.add_task("scenes", total=self.total, rate="")
+            self.start = time.monotonic()
+        return self
+
+    def advance(self, n: int = 1) -> None:
+        if self.progress is None:
+            return
+        task = self.progress.tasks[0]
+        elapsed = time.monotonic() - self.start
+        rate = 60.0 * (task.completed + n) / elapsed if elapsed > 0 else 0.0
+        self.progress.update(self.task, advance=n, rate=f"{rate:.1f}/min")
+
+    def __exit__(self, *exc) -> None:
+        if self.progress is not None:
+            self.progress.__exit__(*exc)
