@@ -6,9 +6,11 @@ import time
 
 import numpy as np
 import pytest
+from numpy.random import default_rng
 
 from pair2scene.assets.mesh import Asset, Mesh, Part, box, box_between
 from pair2scene.assets.pointcloud import (
+    BURIED_TOL_M,
     DEFAULT_POINTS,
     PointCloudCache,
     asset_point_cloud,
@@ -16,6 +18,9 @@ from pair2scene.assets.pointcloud import (
     sample_asset,
     sample_surface,
 )
+from pair2scene.assets.registry import generate
+from pair2scene.assets.surfaces import convex_part
+from pair2scene.assets.typical_sizes import typical_size
 
 
 def two_boxes() -> Mesh:
@@ -73,6 +78,46 @@ def test_asset_points_skip_buried_faces():
     )
     assert not top_inside.any()  # the legs' ends inside the top slab are not sampled
     assert np.allclose(np.linalg.norm(n, axis=1), 1)
+
+
+def ref_sample_surface(mesh: Mesh, n: int, rng: np.random.Generator):
+    areas = mesh.face_areas
+    cdf = np.cumsum(areas) / float(areas.sum())
+    face = np.minimum(np.searchsorted(cdf, rng.random(n), side="right"), len(areas) - 1)
+    uv = rng.random((n, 2))
+    flip = uv.sum(1) > 1
+    uv[flip] = 1 - uv[flip]
+    t = mesh.triangles[face]
+    return t[:, 0] + uv[:, :1] * (t[:, 1] - t[:, 0]) + uv[:, 1:] * (t[:, 2] - t[:, 0]), (
+        mesh.face_normals[face]
+    )
+
+
+def ref_sample_asset(asset: Asset, n: int, rng: np.random.Generator):
+    """The plain form of sample_asset: one part at a time, each from its own mesh."""
+    parts = [c for c in (convex_part(p.mesh) for p in asset.parts) if c is not None]
+    pts, nrm = np.zeros((0, 3)), np.zeros((0, 3))
+    while len(pts) < n:
+        p, q = ref_sample_surface(asset.mesh, 2 * (n - len(pts)), rng)
+        buried = np.zeros(len(p), dtype=bool)
+        for part in parts:
+            lo, hi = part.bounds
+            idx = np.flatnonzero(np.all((p > lo) & (p < hi), axis=1) & ~buried)
+            if len(idx):
+                depth = (p[idx] @ part.normals.T - part.offsets).max(1)
+                buried[idx[depth < -BURIED_TOL_M]] = True
+        pts, nrm = np.concatenate([pts, p[~buried]]), np.concatenate([nrm, q[~buried]])
+    return pts[:n], nrm[:n]
+
+
+@pytest.mark.parametrize("category,style", [("shelving_unit", 0), ("chair", 2), ("bowl", 1)])
+def test_asset_points_match_the_plain_form(category, style):
+    """The same points to the bit: sampling is arranged for speed, not changed."""
+    size = np.array(typical_size(category).size)
+    got = sample_asset(generate(category, size, rng=1, style=style), 3000, 7)
+    want = ref_sample_asset(generate(category, size, rng=1, style=style), 3000, default_rng(7))
+    for a, b in zip(got, want):
+        assert a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
 def test_render_mesh_is_sampled_when_present():

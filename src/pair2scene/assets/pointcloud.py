@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.assets.mesh import Asset, Mesh
-from pair2scene.assets.surfaces import ConvexPart, convex_part
+from pair2scene.assets.surfaces import ConvexPart, convex_parts
 from pair2scene.io.atomic import atomic_open
 from pair2scene.paths import cache_dir
 
@@ -62,10 +62,11 @@ def sample_surface(
     cdf = np.cumsum(areas) / total
     face = np.minimum(np.searchsorted(cdf, rng.random(n), side="right"), len(areas) - 1)
     uv = rng.random((n, 2))
-    flip = uv.sum(1) > 1  # fold the unit square onto the triangle
-    uv[flip] = 1 - uv[flip]
-    t = mesh.triangles[face]  # (n, 3, 3)
-    pts = t[:, 0] + uv[:, :1] * (t[:, 1] - t[:, 0]) + uv[:, 1:] * (t[:, 2] - t[:, 0])
+    flip = uv[:, 0] + uv[:, 1] > 1  # fold the unit square onto the triangle
+    np.subtract(1, uv, out=uv, where=flip[:, None])
+    t = mesh.triangles
+    a = t[face, 0]
+    pts = a + uv[:, :1] * (t[face, 1] - a) + uv[:, 1:] * (t[face, 2] - a)
     return pts, mesh.face_normals[face]
 
 
@@ -81,7 +82,7 @@ def sample_asset(
     render = asset.extra.get("render_mesh")
     if isinstance(render, Mesh) or len(asset.parts) == 1:
         return sample_surface(render if isinstance(render, Mesh) else asset.mesh, n, rng)
-    parts = [c for c in (convex_part(p.mesh) for p in asset.parts) if c is not None]
+    parts = convex_parts(asset)
     mesh = asset.mesh
     pts, nrm = np.zeros((0, 3)), np.zeros((0, 3))
     for _ in range(MAX_DRAWS):
@@ -99,9 +100,16 @@ def sample_asset(
 def _buried(parts: list[ConvexPart], points: np.ndarray) -> np.ndarray:
     """(M,) whether each point (M, 3) lies strictly inside any of the convex parts."""
     out = np.zeros(len(points), dtype=bool)
-    for part in parts:
-        lo, hi = part.bounds
-        idx = np.flatnonzero(np.all((points > lo) & (points < hi), axis=1) & ~out)
+    if not parts:
+        return out
+    lo, hi = np.array([p.bounds for p in parts]).transpose(1, 2, 0)[..., None]  # (3, K, 1)
+    # (K, M): the points strictly inside each part's bounds
+    near = np.ones((len(parts), len(points)), dtype=bool)
+    for axis, c in enumerate(points.T):
+        near &= c > lo[axis]
+        near &= c < hi[axis]
+    for part, inside in zip(parts, near):
+        idx = np.flatnonzero(inside & ~out)
         if len(idx):
             depth = (points[idx] @ part.normals.T - part.offsets).max(1)
             out[idx[depth < -BURIED_TOL_M]] = True
