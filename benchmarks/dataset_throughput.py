@@ -94,6 +94,15 @@ def main() -> int:
         lines.append(
             f"| {executor} | {rates[1]:.1f} | {rates[2]:.1f} | {rates[2] / rates[1]:.2f} |"
         )
+    local = dict(rows)["local"]
+    per_core = max(local[1], local[2] / 2)  # scenes a minute one core makes
+    lines += [
+        "",
+        f"Projected for 1,000,000 fit rooms at this rate: {1e6 / per_core / 60:,.0f} "
+        f"core-hours ({per_core:.1f} scenes a minute a core, the better of the local "
+        f"runs): {1e6 / per_core / 60 / 32:,.1f} hours on one 32-core node, "
+        f"{1e6 / per_core / 60 / 512:,.1f} on 16 of them.",
+    ]
     text = "\n".join(lines) + "\n"
     print(text)
     if not args.no_write:

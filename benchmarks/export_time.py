@@ -68,7 +68,8 @@ def main() -> int:
         "",
         f"`python benchmarks/export_time.py --scenes {args.scenes}` on {machine()}, "
         f"{dt.date.today().isoformat()}: beyond bedrooms of {OBJECTS} objects "
-        f"({min(objects)}-{max(objects)} placed), each format written alone, then all "
+        f"({min(objects)}{'' if min(objects) == max(objects) else f'-{max(objects)}'} placed), "
+        "each format written alone, then all "
         "of them as one scene folder; median of the scenes, warm process.",
         "",
         "| format | what it writes | seconds per scene |",
