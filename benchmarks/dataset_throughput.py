@@ -69,7 +69,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for executor in executors:
             if executor == "ray":
-                ray.init(num_cpus=max(WORKERS), include_dashboard=False, log_to_driver=False)
+                ray.init(address="local", num_cpus=max(WORKERS), include_dashboard=False,
+                         log_to_driver=False)  # fmt: skip
             try:
                 rates = {j: rate(Path(tmp), executor, j, args.scenes, args.shard_size)
                          for j in WORKERS}  # fmt: skip

@@ -145,7 +145,8 @@ def test_sigkill_part_way_then_resume(reference, tmp_path):
 
 def test_ray_gives_the_same_bytes(reference, tmp_path):
     ray = pytest.importorskip("ray")
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    # a fresh instance of its own, even when a cluster already runs on this machine
+    ray.init(address="local", num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
         out = tmp_path / "ds"
         summary = run_dataset(out, TINY, executor="ray", jobs=2, progress=False)
