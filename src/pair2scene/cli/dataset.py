@@ -137,30 +137,11 @@ def verify_command(
 
 
 def run(argv: list[str] | None = None) -> int:
-    """The group as a command of its own, with the CLI's one-line errors (exit 2)."""
-    from pair2scene.cli import error_line, os_error_message
+    """The group as a command of its own (``python -m pair2scene.cli.dataset ...``): the
+    main command line's ``pair2scene dataset ...``, with its one-line errors (exit 2)."""
+    from pair2scene.cli import main
 
-    try:
-        rv = dataset_app(args=argv, standalone_mode=False, prog_name="pair2scene dataset")
-        if isinstance(rv, int) and rv:  # (click returns an Exit's code without standalone)
-            return rv
-    except UserError as e:
-        print(error_line(str(e)), file=sys.stderr)
-        return e.exit_code
-    except typer.Exit as e:
-        return e.exit_code
-    except (typer.Abort, KeyboardInterrupt):
-        print("interrupted", file=sys.stderr)
-        return 130
-    except OSError as e:
-        print(error_line(os_error_message(e)), file=sys.stderr)
-        return 2
-    except Exception as e:
-        if not (hasattr(e, "format_message") and hasattr(e, "exit_code")):
-            raise
-        print(error_line(e.format_message()), file=sys.stderr)
-        return 2
-    return 0
+    return main(["dataset", *(sys.argv[1:] if argv is None else argv)])
 
 
 if __name__ == "__main__":
