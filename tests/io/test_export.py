@@ -115,3 +115,20 @@ def test_windows_are_cut_into_their_wall_with_a_pane_and_marked_in_the_top_view(
     assert sill.bounds[1, 2] == pytest.approx(0.8) and lintel.bounds[0, 2] == pytest.approx(2.0)
     assert room_color("window_2_1_pane") == WINDOW_RGB == room_color("window_2_1", top_view=True)
     assert room_color("window_2_1") == WALL_RGB == room_color("wall_0_0", top_view=True)
+
+
+def test_an_l_shaped_room_gets_an_l_shaped_floor_slab_facing_out():
+    from pair2scene.io.scene_meshes import FLOOR_THICKNESS_M, WALL_THICKNESS_M, floor_slab
+
+    ell = np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float)
+    slab = floor_slab(ell, WALL_THICKNESS_M)
+    up = slab.face_normals[:, 2] > 0.9
+    t = WALL_THICKNESS_M
+    # the L (12 m2) grown by the walls' thickness: its 16 m of edges, 5 convex corners
+    # adding a square each, 1 concave corner taking one away; not the 4.2 x 4.2 bounds
+    assert slab.face_areas[up].sum() == pytest.approx(12 + t * 16 + t * t * 4)
+    assert np.allclose(slab.bounds, [[-t, -t, -FLOOR_THICKNESS_M], [4 + t, 4 + t, 0]])
+    sides = np.abs(slab.face_normals[:, 2]) < 0.1
+    centre = slab.triangles[sides].mean(1)[:, :2]
+    inward = np.array([[1.0, 1.0]]) - centre  # a point inside the L
+    assert ((slab.face_normals[sides][:, :2] * inward).sum(1) < 0).all()  # walls face out

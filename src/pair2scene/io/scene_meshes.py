@@ -70,6 +70,34 @@ def object_meshes(scene: Scene, assets: dict) -> list[tuple[str, str, Mesh]]:
     return out
 
 
+def floor_slab(polygon: np.ndarray, grow: float) -> Mesh:
+    """The floor: the room's polygon grown by ``grow`` (under the walls too, mitred
+    corners), :data:`FLOOR_THICKNESS_M` thick below z = 0, faces outward. An L-shaped room
+    gets an L-shaped floor, not its bounding rectangle."""
+    import shapely
+    from shapely.geometry.polygon import orient
+
+    shape = orient(shapely.Polygon(polygon).buffer(grow, join_style="mitre"), 1.0)
+    tris = [np.asarray(g.exterior.coords)[:3] for g in
+            shapely.constrained_delaunay_triangles(shape).geoms]  # fmt: skip
+    verts, faces = [], []
+    for tri in tris:
+        (x0, y0), (x1, y1), (x2, y2) = tri
+        if (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0) < 0:
+            tri = tri[::-1]  # counter-clockwise seen from above
+        k = len(verts)
+        verts += [[x, y, 0.0] for x, y in tri] + [[x, y, -FLOOR_THICKNESS_M] for x, y in tri]
+        faces += [[k, k + 1, k + 2], [k + 3, k + 5, k + 4]]  # top up, bottom down
+    ring = np.asarray(shape.exterior.coords)[:-1]  # counter-clockwise
+    for i in range(len(ring)):
+        (xa, ya), (xb, yb) = ring[i], ring[(i + 1) % len(ring)]
+        k = len(verts)
+        verts += [[xa, ya, -FLOOR_THICKNESS_M], [xb, yb, -FLOOR_THICKNESS_M], [xb, yb, 0.0],
+                  [xa, ya, 0.0]]  # fmt: skip
+        faces += [[k, k + 1, k + 2], [k, k + 2, k + 3]]  # facing out of the room
+    return Mesh(np.asarray(verts, dtype=float), np.asarray(faces, dtype=np.int64))
+
+
 def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
     """The floor slab under z = 0 and one wall per polygon edge, door and window openings
     left free: ``floor``, ``wall_<edge>_<piece>``, the lintel above each door
@@ -81,14 +109,8 @@ def room_meshes(room: Room) -> list[tuple[str, Mesh]]:
     painting flush on it) stays in front of the wall, visible. A wall reaches past its end
     over the corner where the room's corner is convex, so the outside corner is closed."""
     poly = np.asarray(room.floor_polygon, dtype=float)
-    lo, hi = poly.min(0), poly.max(0)
     t = WALL_THICKNESS_M
-    out = [
-        (
-            "floor",
-            box_between([lo[0] - t, lo[1] - t, -FLOOR_THICKNESS_M], [hi[0] + t, hi[1] + t, 0.0]),
-        )
-    ]
+    out = [("floor", floor_slab(poly, t))]
     for i in range(len(poly)):
         a, b = poly[i], poly[(i + 1) % len(poly)]
         length = float(np.linalg.norm(b - a))
