@@ -153,6 +153,20 @@ class Asset:
         return Mesh.concat([p.mesh for p in self.parts])
 
 
+def axis_aligned_box(mesh: Mesh, tol: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """(centre (3,), half size (3,)) if ``mesh`` is an axis-aligned box (8 distinct
+    vertices, each within ``tol`` of the bounds), else None: simulators collide such a
+    part as a box primitive, faster than a mesh."""
+    v = mesh.vertices
+    if len(v) != 8:
+        return None
+    lo, hi = v.min(0), v.max(0)
+    on_bounds = (np.abs(v - lo) <= tol) | (np.abs(v - hi) <= tol)
+    if not on_bounds.all() or len(np.unique(np.round(v, 9), axis=0)) != 8:
+        return None
+    return (lo + hi) / 2, (hi - lo) / 2
+
+
 # -- primitives ---------------------------------------------------------------------
 _BOX_FACES = np.array(
     [

@@ -57,7 +57,7 @@ from enum import Enum
 import numpy as np
 
 from pair2scene.assets.identity import asset_seed
-from pair2scene.assets.mesh import Asset, Mesh
+from pair2scene.assets.mesh import Asset, Mesh, axis_aligned_box
 from pair2scene.categories import SuperCategory
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject, on_wall
@@ -356,18 +356,13 @@ def body_inertial(asset: Asset, density: float) -> tuple[float, np.ndarray, np.n
 
 
 def _as_box(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
-    """(centre (3,), half-size (3,)) if ``mesh`` is an axis-aligned box, else None."""
-    v = mesh.vertices
-    if len(v) != 8:
-        return None
-    lo, hi = v.min(0), v.max(0)
-    on_bounds = (np.abs(v - lo) <= BOX_TOL) | (np.abs(v - hi) <= BOX_TOL)
-    if not on_bounds.all() or len(np.unique(np.round(v, 9), axis=0)) != 8:
-        return None
-    return (lo + hi) / 2, np.maximum((hi - lo) / 2, 5e-4)
+    """(centre (3,), half-size (3,), at least 0.5 mm) if ``mesh`` is an axis-aligned box,
+    else None."""
+    box = axis_aligned_box(mesh, BOX_TOL)
+    return None if box is None else (box[0], np.maximum(box[1], 5e-4))
 
 
-def _quat(rotation: np.ndarray) -> np.ndarray:
+def quat_wxyz(rotation: np.ndarray) -> np.ndarray:
     """(3, 3) rotation -> (4,) unit quaternion (w, x, y, z)."""
     import mujoco
 
@@ -397,7 +392,7 @@ def _add_geoms(spec, body, asset: Asset, rotation, translation, config, tag: str
                 type=mujoco.mjtGeom.mjGEOM_BOX,
                 size=half,
                 pos=rotation @ centre + translation,
-                quat=_quat(rotation),
+                quat=quat_wxyz(rotation),
                 friction=[config.friction, 0.005, 0.0001],
             )
             continue
@@ -453,7 +448,7 @@ def _build(
         plan = plans[o.id]
         if plan.role is Role.FREE:
             pos = o.box.center + [0.0, 0.0, (offsets or {}).get(o.id, 0.0)]
-            body = spec.worldbody.add_body(name=o.id, pos=pos, quat=_quat(o.box.rotation))
+            body = spec.worldbody.add_body(name=o.id, pos=pos, quat=quat_wxyz(o.box.rotation))
             body.add_freejoint()
             mass, com, moments = body_inertial(assets[o.id], config.density_kg_m3)
             body.mass, body.ipos, body.inertia = mass, com, moments
@@ -491,7 +486,7 @@ def _add_walls(spec, scene: Scene, config: PhysicsConfig) -> None:
             type=mujoco.mjtGeom.mjGEOM_BOX,
             size=[length / 2, t / 2, height / 2],
             pos=[centre[0], centre[1], height / 2],
-            quat=_quat(rot),
+            quat=quat_wxyz(rot),
             friction=[config.friction, 0.005, 0.0001],
         )
 

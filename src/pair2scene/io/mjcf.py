@@ -41,7 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pair2scene.assets.mesh import Asset, Mesh
+from pair2scene.assets.mesh import Asset, Mesh, axis_aligned_box
+from pair2scene.curation.physics import quat_wxyz
 from pair2scene.io.atomic import atomic_write_bytes, current_umask, replace_folder
 from pair2scene.io.names import safe_name
 from pair2scene.io.physical import BodyPhysics, rolling_friction, scene_physics
@@ -128,18 +129,6 @@ def obj_bytes(mesh: Mesh) -> bytes:
     return ("\n".join(lines) + "\n").encode("ascii")
 
 
-def _as_box(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
-    """(centre (3,), half size (3,)) if ``mesh`` is an axis-aligned box, else None."""
-    v = mesh.vertices
-    if len(v) != 8:
-        return None
-    lo, hi = v.min(0), v.max(0)
-    on_bounds = (np.abs(v - lo) <= BOX_TOL_M) | (np.abs(v - hi) <= BOX_TOL_M)
-    if not on_bounds.all() or len(np.unique(np.round(v, 9), axis=0)) != 8:
-        return None
-    return (lo + hi) / 2, (hi - lo) / 2
-
-
 def _oriented_box(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Centre (3,), half size (3,) and rotation (3, 3) of the box of ``mesh``'s extents
     along its principal directions (for flat parts)."""
@@ -151,15 +140,6 @@ def _oriented_box(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     local = (v - ref) @ axes
     lo, hi = local.min(0), local.max(0)
     return ref + axes @ ((lo + hi) / 2), np.maximum((hi - lo) / 2, FLAT_M / 4), axes
-
-
-def _quat(rotation: np.ndarray) -> np.ndarray:
-    """(3, 3) rotation -> (4,) unit quaternion (w, x, y, z)."""
-    import mujoco
-
-    q = np.zeros(4)
-    mujoco.mju_mat2Quat(q, np.ascontiguousarray(rotation, dtype=float).reshape(9))
-    return q
 
 
 def _box_of_room_piece(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -245,7 +225,7 @@ def _add_room(spec, scene: Scene, files: dict) -> None:
             name=name,
             type=mujoco.mjtGeom.mjGEOM_BOX,
             pos=centre,
-            quat=_quat(rot),
+            quat=quat_wxyz(rot),
             size=half,
             rgba=rgba,
         )
@@ -257,7 +237,7 @@ def _add_object(spec, o: SceneObject, phys: BodyPhysics, asset: Asset, files: di
     import mujoco
 
     stem = safe_name(o.id)
-    body = spec.worldbody.add_body(name=o.id, pos=o.box.center, quat=_quat(o.box.rotation))
+    body = spec.worldbody.add_body(name=o.id, pos=o.box.center, quat=quat_wxyz(o.box.rotation))
     body.mass = phys.mass
     body.ipos = phys.com
     i = phys.inertia
@@ -292,7 +272,7 @@ def _add_object(spec, o: SceneObject, phys: BodyPhysics, asset: Asset, files: di
     )
     for k, part in enumerate(phys.parts):
         name = f"{o.id}/collision/{k}"
-        as_box = _as_box(part)
+        as_box = axis_aligned_box(part, BOX_TOL_M)
         if as_box is not None:
             centre, half = as_box
             body.add_geom(
@@ -309,7 +289,7 @@ def _add_object(spec, o: SceneObject, phys: BodyPhysics, asset: Asset, files: di
                 name=name,
                 type=mujoco.mjtGeom.mjGEOM_BOX,
                 pos=centre,
-                quat=_quat(rot),
+                quat=quat_wxyz(rot),
                 size=half,
                 **common,
             )
