@@ -143,6 +143,36 @@ def test_sigkill_part_way_then_resume(reference, tmp_path):
     assert hidden == []
 
 
+def pool_workers(parent: int) -> list[int]:
+    """The pids of the worker processes ``parent`` spawned (not its resource tracker)."""
+    children = Path(f"/proc/{parent}/task/{parent}/children").read_text().split()
+    return [int(c) for c in children if b"spawn_main" in Path(f"/proc/{c}/cmdline").read_bytes()]
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
+def test_a_killed_local_worker_costs_only_a_retry(tmp_path):
+    config = DatasetConfig(mix=MIX, num=16, max_objects=6, formats=("json",), shard_size=2)
+    whole = tmp_path / "whole"
+    run_dataset(whole, config, progress=False)
+    out = tmp_path / "ds"
+    args = [*ARGS, "--num", "16", "--jobs", "2", "--out", str(out)]  # (the later --num wins)
+    proc = subprocess.Popen(cli(*args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)  # fmt: skip
+    first = out / "shards" / "shard-00000.index.jsonl"
+    deadline = time.monotonic() + KILL_TIMEOUT
+    while not first.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    workers = pool_workers(proc.pid)
+    assert workers, "no worker processes found"
+    os.kill(workers[0], signal.SIGKILL)
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 0, stderr
+    assert "16 scenes in 8 shards" in stdout
+    assert "1 retry after a worker died" in stdout
+    assert verify_dataset(out).clean
+    assert scene_bytes(out) == scene_bytes(whole)  # every scene once, same bytes
+
+
 def test_ray_gives_the_same_bytes(reference, tmp_path):
     ray = pytest.importorskip("ray")
     # a fresh instance of its own, even when a cluster already runs on this machine
@@ -155,3 +185,19 @@ def test_ray_gives_the_same_bytes(reference, tmp_path):
     assert summary.scenes == 6
     assert scene_bytes(out) == scene_bytes(reference)
     assert verify_dataset(out).clean
+
+
+def test_summary_counts_a_scene_once_and_groups_drop_reasons():
+    from pair2scene.dataset.executors import RunSummary
+
+    summary = RunSummary(seconds=2.0)
+    tally = "no valid placement among 256 candidates"
+    record = {"id": "bedroom-fit-00000001", "objects_placed": 9, "objects_requested": 10,
+              "drops": {f"{tally} (collision 200, outside 56)": 1}}  # fmt: skip
+    assert summary.add(record)
+    assert not summary.add(record)  # (its shard made again after a worker died)
+    other = dict(record, id="kitchen-fit-00000002", drops={f"{tally} (faces_away 256)": 2})
+    assert summary.add(other)
+    assert (summary.scenes, summary.objects_placed) == (2, 18)
+    assert summary.drops == {tally: 3}
+    assert summary.lines()[1] == f"drops by reason: {tally}: 3"

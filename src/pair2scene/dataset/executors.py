@@ -2,12 +2,15 @@
 
 ``local``: ``--jobs`` worker processes (the ``spawn`` context: no forked torch state),
 each loading the model once in its initializer with one torch thread; a task is a shard;
-workers report each scene through a queue, for one progress bar over all of them. With
+workers report each scene through a queue, for one progress bar over all of them. A
+worker that dies (killed, out of memory) breaks the pool: the pool is started again and
+the shards not yet whole are made again, up to :data:`WORKER_RESTARTS` times. With
 ``--jobs 1`` the shards are made in this process.
 
-``ray``: ``--jobs`` Ray actors, each loading the model once; a task is a shard; a task
-that fails (an error, or its actor killed: the actor is restarted) is submitted again, up
-to :data:`SHARD_ATTEMPTS` times, so a lost worker costs only its shard. The actors write
+``ray``: ``--jobs`` Ray actors, each loading the model once; a task is a shard; the
+actors report each scene through a Ray queue (an actor of no CPU); a task that fails (an
+error, or its actor killed: the actor is restarted) is submitted again, up to
+:data:`SHARD_ATTEMPTS` times, so a lost worker costs only its shard. The actors write
 into ``OUT`` themselves: on a cluster, ``OUT`` must be on a file system every node sees.
 
 Every shard is written whole or not at all (:func:`pair2scene.dataset.shards.make_shard`)
@@ -16,7 +19,9 @@ and the scenes are the same bytes whichever worker makes them.
 
 from __future__ import annotations
 
+import pickle
 import queue as queue_module
+import re
 import time
 from collections import Counter
 from dataclasses import dataclass, field
@@ -38,8 +43,12 @@ SHARD_ATTEMPTS = 3
 """Ray: how many times a shard is tried before the run fails."""
 ACTOR_RESTARTS = 4
 """Ray: how many times a killed actor is restarted."""
+WORKER_RESTARTS = 4
+"""Local: how many times the worker pool is started again after a worker died."""
 POLL_SECONDS = 0.2
 """How often the progress loop looks at the workers' reports."""
+_DETAIL = re.compile(r" \([^()]*\)$")
+"""A drop reason's closing tally of rejected candidates, ``(collision 11, outside 2)``."""
 RAY_HINT = "--executor ray needs Ray: pip install 'pair2scene[ray]' (or pip install 'ray>=2.9')"
 """The one line shown when Ray is not importable."""
 
@@ -61,12 +70,25 @@ class RunSummary:
     """Drop reason -> count, over the scenes made."""
     index_written: bool = False
     """Whether OUT/index.jsonl was written (every shard of the plan is whole)."""
+    retries: int = 0
+    """Restarts after a worker died or a task failed (local: the worker pool started
+    again, its unfinished shards made again; Ray: shard tasks submitted again)."""
+    first_scene_seconds: float = 0.0
+    """Seconds from the start to the first scene made (workers started, models loaded)."""
+    _seen: set = field(default_factory=set, repr=False)
 
-    def add(self, record: dict) -> None:
+    def add(self, record: dict) -> bool:
+        """Count a scene once (a shard made again reports its scenes again); whether it
+        was new."""
+        if record["id"] in self._seen:
+            return False
+        self._seen.add(record["id"])
         self.scenes += 1
         self.objects_placed += record["objects_placed"]
         self.objects_requested += record["objects_requested"]
-        self.drops.update(record["drops"])
+        for reason, n in record["drops"].items():  # (the candidates' tallies left out)
+            self.drops[_DETAIL.sub("", reason)] += n
+        return True
 
     @property
     def scenes_per_minute(self) -> float:
@@ -79,6 +101,9 @@ class RunSummary:
             f"done) in {self.seconds:.1f} s: {self.scenes_per_minute:.1f} scenes per minute; "
             f"{self.objects_placed} of {self.objects_requested} objects placed"
         ]
+        if self.retries:
+            tries = "retry" if self.retries == 1 else "retries"
+            out.append(f"{self.retries} {tries} after a worker died or a task failed")
         if self.drops:
             top = ", ".join(f"{reason}: {n}" for reason, n in self.drops.most_common(8))
             out.append(f"drops by reason: {top}")
@@ -126,8 +151,8 @@ class _ShardActor:
     def __init__(self) -> None:
         _generator()
 
-    def make(self, out: str, config: DatasetConfig, index: int, items: list) -> list:
-        return make_shard(Path(out), config, index, items, _generator())
+    def make(self, out: str, config: DatasetConfig, index: int, items: list, reports) -> list:
+        return make_shard(Path(out), config, index, items, _generator(), reports.put)
 
 
 # --- the run ---------------------------------------------------------------------------
@@ -173,54 +198,89 @@ def run_dataset(
         with _Bar(total, progress) as bar:
 
             def done(record: dict) -> None:
-                summary.add(record)
-                bar.advance()
+                if summary.add(record):
+                    if summary.scenes == 1:
+                        summary.first_scene_seconds = time.monotonic() - start
+                    bar.advance()
 
             if not todo:
                 pass
             elif executor == "ray":
-                _run_ray(ray, out, config, todo, jobs, ray_address, done)
+                summary.retries = _run_ray(ray, out, config, todo, jobs, ray_address, done)
             elif jobs == 1:
                 generator = _generator()
                 for index, items in todo:
                     make_shard(out, config, index, items, generator, done)
             else:
-                _run_local(out, config, todo, jobs, done)
+                summary.retries = _run_local(out, config, todo, jobs, done)
         summary.shards = len(todo)
         summary.seconds = time.monotonic() - start
         summary.index_written = write_index(out, config) is not None
     return summary
 
 
-def _run_local(out: Path, config: DatasetConfig, todo: list, jobs: int, done) -> None:
+def _run_local(out: Path, config: DatasetConfig, todo: list, jobs: int, done) -> int:
+    """Shards on ``jobs`` worker processes; the pool is started again when a worker dies.
+    Returns how many times it was."""
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
 
     context = multiprocessing.get_context("spawn")
-    reports = context.Queue()
-    pool = ProcessPoolExecutor(min(jobs, len(todo)), mp_context=context,
+    left = dict(todo)  # shard index -> its scenes, until the shard is whole
+    restarts = 0
+    while True:
+        lost = _local_round(context, out, config, left, jobs, done)
+        if not left:
+            return restarts
+        restarts += 1
+        if restarts > WORKER_RESTARTS:
+            raise UserError(
+                f"local workers died {restarts} times ({lost}); {len(left)} shards not made: "
+                "rerun the same command to resume"
+            )
+
+
+def _local_round(context, out: Path, config: DatasetConfig, left: dict, jobs: int, done) -> str:
+    """One pool's run over the shards of ``left``, removing each shard it makes; returns
+    what broke the pool ('' when nothing did). A shard's own error ends the run."""
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    reports = context.Queue()  # (a new one: a killed worker may leave the old one torn)
+    pool = ProcessPoolExecutor(min(jobs, len(left)), mp_context=context,
                                initializer=_init_worker, initargs=(reports,))  # fmt: skip
+    lost = ""
     try:
-        futures = [pool.submit(_worker_shard, str(out), config, i, items) for i, items in todo]
+        futures = {pool.submit(_worker_shard, str(out), config, i, items): i
+                   for i, items in left.items()}  # fmt: skip
         pending = set(futures)
         while pending:
             _drain(reports, done)
             finished = {f for f in pending if f.done()}
-            for f in finished:
-                f.result()  # (a worker's error ends the run; a rerun resumes)
             pending -= finished
+            for f in finished:
+                try:
+                    f.result()  # (a worker's error ends the run; a rerun resumes)
+                except BrokenProcessPool as e:
+                    lost = _first_line(e)
+                else:
+                    del left[futures[f]]
         _drain(reports, done, wait=False)
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+        reports.close()
+        reports.cancel_join_thread()
+    return lost
 
 
 def _drain(reports, done, wait: bool = True) -> None:
+    """Hand the workers' scene reports to ``done`` (progress only: a report torn by a
+    killed worker is dropped; the shard's index on disk is what counts)."""
     try:
         record = reports.get(timeout=POLL_SECONDS) if wait else reports.get_nowait()
         done(record)
         while True:
             done(reports.get_nowait())
-    except queue_module.Empty:
+    except (queue_module.Empty, EOFError, OSError, ValueError, pickle.UnpicklingError):
         pass
 
 
@@ -234,11 +294,15 @@ def _import_ray():
 
 def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
              address: str | None, done) -> None:  # fmt: skip
-    """Shards on ``jobs`` Ray actors (progress per shard); a failed shard is retried."""
+    """Shards on ``jobs`` Ray actors, each scene reported as it is made; a failed shard is
+    retried. Returns how many tasks were submitted again."""
     started = not ray.is_initialized()
     if started:
         ray.init(address=address, include_dashboard=False, log_to_driver=False)
     try:
+        from ray.util.queue import Queue
+
+        reports = Queue(actor_options={"num_cpus": 0})
         actor_class = ray.remote(num_cpus=1, max_restarts=ACTOR_RESTARTS,
                                  max_task_retries=SHARD_ATTEMPTS - 1)(_ShardActor)  # fmt: skip
         actors = [actor_class.remote() for _ in range(min(jobs, len(todo)))]
@@ -250,9 +314,13 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
             while queue and idle:
                 index, items = queue.pop(0)
                 actor = idle.pop()
-                ref = actor.make.remote(str(out), config, index, items)
+                ref = actor.make.remote(str(out), config, index, items, reports)
                 running[ref] = (actor, index, items)
-            ready, _ = ray.wait(list(running), num_returns=1)
+            ready, _ = ray.wait(list(running), num_returns=1, timeout=POLL_SECONDS)
+            for record in reports.get_nowait_batch(reports.size()):
+                done(record)
+            if not ready:
+                continue
             ref = ready[0]
             actor, index, items = running.pop(ref)
             idle.append(actor)
@@ -266,11 +334,12 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
                     ) from None
                 queue.append((index, items))
                 continue
-            for record in records:
+            for record in records:  # (those the queue has not brought yet)
                 done(record)
     finally:
         if started:
             ray.shutdown()
+    return sum(attempts.values())
 
 
 def _first_line(e: BaseException) -> str:
