@@ -199,5 +199,7 @@ def test_summary_counts_a_scene_once_and_groups_drop_reasons():
     other = dict(record, id="kitchen-fit-00000002", drops={f"{tally} (faces_away 256)": 2})
     assert summary.add(other)
     assert (summary.scenes, summary.objects_placed) == (2, 18)
-    assert summary.drops == {tally: 3}
-    assert summary.lines()[1] == f"drops by reason: {tally}: 3"
+    big = dict(record, id="kitchen-fit-00000003", drops={"too large: its base is 1.14 x 0.03 m": 1})
+    assert summary.add(big)
+    assert summary.drops == {tally: 3, "too large: its base is # x # m": 1}
+    assert summary.lines()[1] == f"drops by reason: {tally}: 3, too large: its base is # x # m: 1"

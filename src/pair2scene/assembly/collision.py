@@ -139,23 +139,28 @@ def _outline(vertices: np.ndarray) -> np.ndarray:
 def _edge_normals(outline: np.ndarray) -> np.ndarray:
     """(K, 2) unit outward normals of a counter-clockwise outline's edges, both ways
     round (a move may go either way along a separating axis)."""
-    edges = np.roll(outline, -1, axis=0) - outline
-    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
-    length = np.linalg.norm(normals, axis=1)
-    normals = normals[length > 1e-9] / length[length > 1e-9, None]
+    edges = np.concatenate((outline[1:], outline[:1])) - outline
+    normals = np.stack((edges[:, 1], -edges[:, 0]), axis=1)
+    length = np.sqrt(np.add.reduce(normals * normals, axis=1))  # (np.linalg.norm's sums)
+    keep = length > 1e-9
+    normals = normals[keep] / length[keep, None]
     return np.concatenate([normals, -normals])
 
 
-def clearing_move(pairs: list[tuple[np.ndarray, np.ndarray]], gap: float = 2e-3) -> np.ndarray:
+def clearing_move(
+    pairs: list[tuple[np.ndarray, np.ndarray]],
+    gap: float = 2e-3,
+    known: dict[int, np.ndarray] | None = None,
+) -> np.ndarray:
     """The shortest horizontal move (3,) of the first outline of every pair that leaves
     it ``gap`` clear of the second: pairs of convex counter-clockwise outlines (K, 2).
     Along a direction d (among the outlines' edge normals: the separating axis theorem's
     candidates), a pair is clear once min(mine . d) + t >= max(theirs . d); every pair at
     once needs the largest such t; the direction needing the smallest is taken. Zero for
-    no pairs."""
+    no pairs. ``known``: edge normals already at hand, by ``id`` of their outline."""
     if not pairs:
         return np.zeros(3)
-    normals: dict[int, np.ndarray] = {}  # an outline met in several pairs: once
+    normals: dict[int, np.ndarray] = dict(known or {})  # an outline met twice: once
     for pair in pairs:
         for p in pair:
             if id(p) not in normals:
@@ -190,6 +195,7 @@ class Shape:
         self.rotation, self.translation = np.eye(3), np.zeros(3)
         self._outlines: list[np.ndarray | None] = [None] * len(self.objects)
         self._posed: dict[int, np.ndarray] = {}  # this pose's world footprints, by part
+        self._normals: dict[int, np.ndarray] = {}  # their edge normals, by part
         self._bounds: np.ndarray | None = None  # this pose's part bounds
 
     def set_pose(self, rotation: np.ndarray, translation: np.ndarray) -> None:
@@ -197,7 +203,7 @@ class Shape:
         fcl = _fcl()
         self.rotation = np.asarray(rotation, float)
         self.translation = np.asarray(translation, float)
-        self._posed, self._bounds = {}, None
+        self._posed, self._normals, self._bounds = {}, {}, None
         tf = fcl.Transform(self.rotation, self.translation)
         for o in self.objects:
             o.setTransform(tf)
@@ -230,6 +236,14 @@ class Shape:
         self._posed[part] = xy
         return xy
 
+    def footprint_normals(self, part: int) -> np.ndarray:
+        """:func:`_edge_normals` of :meth:`footprint` (kept while the pose is: a placed
+        object's are asked for by every candidate pushed out of it)."""
+        hit = self._normals.get(part)
+        if hit is None:
+            hit = self._normals[part] = _edge_normals(self.footprint(part))
+        return hit
+
 
 def _near_parts(a: Shape, b: Shape) -> tuple[np.ndarray, np.ndarray]:
     """Indices (i, j) of the part pairs of two posed shapes whose bounds meet (within
@@ -249,13 +263,16 @@ class MeshWorld:
     def __init__(self, tolerances: Tolerances = TOLERANCES) -> None:
         self.tol = tolerances
         self.shapes: dict[str, Shape] = {}
+        self._recent: tuple = (None, None, {})  # (candidate, its pose, {pair: deep pairs})
 
     def add(self, object_id: str, shape: Shape) -> None:
         """Keep ``shape`` (already posed) as object ``object_id``."""
         self.shapes[object_id] = shape
+        self._recent = (None, None, {})
 
     def remove(self, object_id: str) -> None:
         self.shapes.pop(object_id, None)
+        self._recent = (None, None, {})
 
     def penetration(self, a: Shape, b: Shape) -> float:
         """Deepest penetration (m) between two posed shapes; 0 when apart."""
@@ -280,32 +297,49 @@ class MeshWorld:
         object from above thus has to leave its footprint: a long move, which placement's
         repair limit turns down, where a shallow sideways overlap costs a short one. The
         move may meet a third object; the caller tests again."""
-        fcl = _fcl()
-        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
         pairs: list[tuple[np.ndarray, np.ndarray]] = []
+        known: dict[int, np.ndarray] = {}
         for oid in against:
             other = self.shapes.get(oid)
             if other is None:
                 continue
-            touch = self.touch_between(candidate, other)
-            for i, j in zip(*_near_parts(candidate, other)):
-                result = fcl.CollisionResult()
-                if fcl.collide(candidate.objects[i], other.objects[j], request, result) and any(
-                    c.penetration_depth > touch for c in result.contacts
-                ):
-                    pairs.append((candidate.footprint(i), other.footprint(j)))
-        return clearing_move(pairs)
+            for i, j in self._deep_pairs(candidate, oid):
+                mine, theirs = candidate.footprint(i), other.footprint(j)
+                known[id(mine)] = candidate.footprint_normals(i)
+                known[id(theirs)] = other.footprint_normals(j)
+                pairs.append((mine, theirs))
+        return clearing_move(pairs, known=known)
 
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:
         """The ids among ``against`` whose parts penetrate the posed candidate by more than
         :attr:`Tolerances.touch`."""
-        return [
-            oid
-            for oid in against
-            if oid in self.shapes
-            and self.penetration(candidate, self.shapes[oid])
-            > self.touch_between(candidate, self.shapes[oid])
-        ]
+        return [oid for oid in against if oid in self.shapes and self._deep_pairs(candidate, oid)]
+
+    def _deep_pairs(self, candidate: Shape, oid: str) -> list[tuple[int, int]]:
+        """The part pairs (candidate's, object ``oid``'s) that penetrate beyond the pair's
+        contact tolerance, in :func:`_near_parts` order. Kept for the candidate's current
+        pose: placement asks :meth:`colliding`, then :meth:`push_out` the same pairs."""
+        pose = (candidate.rotation.tobytes(), candidate.translation.tobytes())
+        if self._recent[0] is not candidate or self._recent[1] != pose:
+            self._recent = (candidate, pose, {})
+        other = self.shapes[oid]
+        key = (oid, id(other), other.rotation.tobytes(), other.translation.tobytes())
+        memo = self._recent[2]
+        hit = memo.get(key)
+        if hit is not None:
+            return hit
+        fcl = _fcl()
+        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
+        touch = self.touch_between(candidate, other)
+        deep = []
+        for i, j in zip(*_near_parts(candidate, other)):
+            result = fcl.CollisionResult()
+            if fcl.collide(candidate.objects[i], other.objects[j], request, result) and any(
+                c.penetration_depth > touch for c in result.contacts
+            ):
+                deep.append((int(i), int(j)))
+        memo[key] = deep
+        return deep
 
     def touch_between(self, a: Shape, b: Shape) -> float:
         """The contact tolerance of a pair: :attr:`Tolerances.touch`, less for thin ones."""

@@ -49,6 +49,8 @@ POLL_SECONDS = 0.2
 """How often the progress loop looks at the workers' reports."""
 _DETAIL = re.compile(r" \([^()]*\)$")
 """A drop reason's closing tally of rejected candidates, ``(collision 11, outside 2)``."""
+_MEASURE = re.compile(r"\d+\.\d+")
+"""A measure in a drop reason (``its base is 1.14 x 0.03 m``), summed as ``#``."""
 RAY_HINT = "--executor ray needs Ray: pip install 'pair2scene[ray]' (or pip install 'ray>=2.9')"
 """The one line shown when Ray is not importable."""
 
@@ -87,7 +89,7 @@ class RunSummary:
         self.objects_placed += record["objects_placed"]
         self.objects_requested += record["objects_requested"]
         for reason, n in record["drops"].items():  # (the candidates' tallies left out)
-            self.drops[_DETAIL.sub("", reason)] += n
+            self.drops[_MEASURE.sub("#", _DETAIL.sub("", reason))] += n
         return True
 
     @property

@@ -544,7 +544,8 @@ def encode_clouds(
     mode and is left in the mode it was in.
     """
     was_training = encoder.training
-    encoder.eval()
+    if was_training:  # (eval() walks every module: not for each of a scene's clouds)
+        encoder.eval()
     clouds = torch.as_tensor(clouds)
     tokens, centers = [], []
     starts = range(0, len(clouds), batch_size)
@@ -552,7 +553,8 @@ def encode_clouds(
         t, c = encoder(clouds[s : s + batch_size])
         tokens.append(t)
         centers.append(c)
-    encoder.train(was_training)
+    if was_training:
+        encoder.train()
     if not tokens:
         width = encoder.config.width
         g = encoder.config.n_groups

@@ -63,8 +63,9 @@ def sixd_to_matrix(sixd: ArrayLike, eps: float = 1e-9) -> np.ndarray:
     c0 = a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), eps)
     b = b - np.sum(c0 * b, axis=-1, keepdims=True) * c0
     c1 = b / np.maximum(np.linalg.norm(b, axis=-1, keepdims=True), eps)
-    c2 = np.cross(c0, c1)
-    return np.stack([c0, c1, c2], axis=-1)
+    (ax, ay, az), (bx, by, bz) = np.moveaxis(c0, -1, 0), np.moveaxis(c1, -1, 0)
+    c2 = np.stack((ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx), axis=-1)
+    return np.stack([c0, c1, c2], axis=-1)  # (c2: np.cross's products, in its order)
 
 
 def euler_to_matrix(angles: ArrayLike, order: str) -> np.ndarray:
@@ -260,7 +261,7 @@ def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> np.ndarray:
     poly = np.asarray(polygon, dtype=float)
     x, y = pts[:, 0:1], pts[:, 1:2]
     x0, y0 = poly[:, 0], poly[:, 1]
-    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    x1, y1 = np.concatenate((x0[1:], x0[:1])), np.concatenate((y0[1:], y0[:1]))
     crosses = (y0 > y) != (y1 > y)
     with np.errstate(divide="ignore", invalid="ignore"):
         x_at = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
