@@ -23,15 +23,24 @@ def median_seconds(fn: Callable[[], object], runs: int) -> float:
     return statistics.median(times)
 
 
+NOTES_MARK = "<!-- notes: kept when a benchmark script rewrites this section -->"
+"""In a section, the line after which hand-written notes survive :func:`replace_section`."""
+
+
 def replace_section(doc: Path, heading: str, text: str) -> None:
     """Replace the ``heading`` section of ``doc`` (up to the next ``## ``) with ``text``,
-    or append it; other sections are kept. Written atomically."""
+    or append it; other sections are kept, and so are the section's notes after
+    :data:`NOTES_MARK`. Written atomically."""
     from pair2scene.io.atomic import atomic_write_text
 
     old = doc.read_text(encoding="utf-8") if doc.exists() else "# Benchmarks\n"
     pattern = re.compile(rf"^{re.escape(heading)}\s*$.*?(?=^## |\Z)", re.MULTILINE | re.DOTALL)
-    if pattern.search(old):
-        new = pattern.sub(lambda _: text + "\n", old, count=1)
+    found = pattern.search(old)
+    if found:
+        notes = found.group(0).partition(NOTES_MARK)[2].strip("\n")
+        if notes:
+            text = f"{text.rstrip()}\n\n{NOTES_MARK}\n{notes}"
+        new = pattern.sub(lambda _: text.rstrip("\n") + "\n\n", old, count=1)
     else:
         new = old.rstrip("\n") + "\n\n" + text
     atomic_write_text(doc, new.rstrip("\n") + "\n")

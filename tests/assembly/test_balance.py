@@ -118,6 +118,31 @@ def test_push_out_frees_a_shallow_overlap():
     assert not world.push_out(touching, ["a"]).any()
 
 
+def test_pairs_kept_for_a_pose_follow_every_move():
+    """colliding() then push_out() share the pairs found for the candidate's pose; a new
+    pose of the candidate or of a placed object, or a changed world, finds them anew."""
+    cube = Asset("x", np.ones(3), (Part("b", box([0, 0, 0], [1, 1, 1])),))
+    world = MeshWorld()
+    placed = Shape(cube)
+    placed.set_pose(np.eye(3), np.array([0.9, 0.0, 0.5]))
+    world.add("a", placed)
+    cand = Shape(cube)
+    cand.set_pose(np.eye(3), np.array([0.0, 0.0, 0.5]))
+    assert world.colliding(cand, ["a"]) == ["a"]
+    assert world.push_out(cand, ["a"])[0] == pytest.approx(-0.102, abs=1e-6)
+    cand.set_pose(np.eye(3), np.array([-0.2, 0.0, 0.5]))  # the candidate moved clear
+    assert world.colliding(cand, ["a"]) == [] and not world.push_out(cand, ["a"]).any()
+    placed.set_pose(np.eye(3), np.array([0.7, 0.0, 0.5]))  # the placed object moved in
+    assert world.colliding(cand, ["a"]) == ["a"]
+    world.remove("a")
+    assert world.colliding(cand, ["a"]) == [] and not world.push_out(cand, ["a"]).any()
+    other = Shape(cube)
+    other.set_pose(np.eye(3), np.array([-1.1, 0.0, 0.5]))
+    world.add("a", other)  # the same id, another shape
+    assert world.colliding(cand, ["a"]) == ["a"]
+    assert world.push_out(cand, ["a"])[0] == pytest.approx(0.102, abs=1e-6)
+
+
 def test_push_out_clears_every_overlap_at_once():
     """Wedged between two blocks, the candidate moves along the one free direction far
     enough to clear both (each contact's own push would drive it into the other)."""

@@ -15,7 +15,7 @@ import pytest
 
 from pair2scene.cli.dataset import run
 from pair2scene.dataset import DatasetConfig, run_dataset, verify_dataset
-from pair2scene.dataset.shards import INDEX, MANIFEST
+from pair2scene.dataset.shards import INDEX, MANIFEST, PARQUET_INDEX
 
 MIX = (("bedroom", 0.5), ("kitchen", 0.5))
 TINY = DatasetConfig(mix=MIX, num=6, max_objects=6, formats=("json",), shard_size=2)
@@ -66,6 +66,18 @@ def test_dataset_layout_and_index(reference):
     assert all(r["objects_placed"] <= r["objects_requested"] <= 6 for r in rows)
     assert len(scene_bytes(reference)) == 6
     assert verify_dataset(reference).clean
+
+
+def test_parquet_index_filters_like_the_jsonl_one(reference):
+    pq = pytest.importorskip("pyarrow.parquet")
+    table = pq.read_table(reference / PARQUET_INDEX)
+    rows = [json.loads(line) for line in (reference / INDEX).read_text().splitlines()]
+    assert table.column("id").to_pylist() == [r["id"] for r in rows]
+    assert table.column("shard").to_pylist() == [r["shard"] for r in rows]
+    assert table.column("dropped").to_pylist() == [sum(r["drops"].values()) for r in rows]
+    assert [json.loads(d) for d in table.column("drops").to_pylist()] == [r["drops"] for r in rows]
+    bedrooms = [r for r in table.to_pylist() if r["room"] == "bedroom" and r["objects_placed"] >= 1]
+    assert len(bedrooms) == sum(r["room"] == "bedroom" and r["objects_placed"] >= 1 for r in rows)
 
 
 def test_rerun_skips_and_other_settings_are_refused(reference, capsys):
