@@ -91,3 +91,14 @@ def test_bad_options_end_in_one_line(args, words, tmp_path, capsys):
     assert code == 2
     assert err.count("\n") == 1 and err.startswith("error: ") and words in err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("address", ["127.0.0.1:1", "ray://127.0.0.1:1", "[::1]:1"])
+def test_an_address_nothing_answers_on_is_refused_at_once(address, tmp_path, capsys):
+    pytest.importorskip("ray")
+    out = tmp_path / "out"
+    code = run(["--room", "bedroom", "--num", "2", "--executor", "ray", "--ray-address",
+                address, "--out", str(out), "--quiet"])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "no Ray cluster answers there" in err
+    assert not out.exists()

@@ -190,6 +190,8 @@ def run_dataset(
     if executor not in EXECUTORS:
         raise UserError(f"--executor {executor!r}: choose one of {', '.join(EXECUTORS)}")
     ray = _import_ray() if executor == "ray" else None
+    if ray is not None and not ray.is_initialized():
+        check_ray_address(ray_address)  # (before OUT is made)
     out = Path(out)
     open_dataset(out, config)
     summary = RunSummary()
@@ -300,7 +302,7 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
     retried. Returns how many tasks were submitted again."""
     started = not ray.is_initialized()
     if started:
-        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+        _connect(ray, address)
     try:
         from ray.util.queue import Queue
 
@@ -342,6 +344,37 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
         if started:
             ray.shutdown()
     return sum(attempts.values())
+
+
+RAY_CONNECT_SECONDS = 10.0
+"""How long ``--ray-address host:port`` may take to answer before the run is refused."""
+
+
+def check_ray_address(address: str | None) -> None:
+    """A ``host:port`` address (``ray://`` too) nothing answers on is refused at once with
+    one line, not left to Ray's reconnection loop; other forms (``auto``, None) pass."""
+    hostport = (address or "").removeprefix("ray://")
+    host, sep, port = hostport.rpartition(":")
+    if not (sep and host and port.isdigit()):
+        return
+    import socket
+
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), RAY_CONNECT_SECONDS).close()
+    except (OSError, OverflowError) as e:
+        raise UserError(
+            f"--ray-address {address}: no Ray cluster answers there ({_first_line(e)})"
+        ) from None
+
+
+def _connect(ray, address: str | None) -> None:
+    """``ray.init`` on ``address`` (None: a Ray instance of this machine's own), or one
+    line why not."""
+    check_ray_address(address)
+    try:
+        ray.init(address=address, include_dashboard=False, log_to_driver=False)
+    except (ConnectionError, RuntimeError, ValueError) as e:
+        raise UserError(f"--ray-address {address}: {_first_line(e)}") from None
 
 
 def _first_line(e: BaseException) -> str:
