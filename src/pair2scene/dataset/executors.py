@@ -8,9 +8,10 @@ the shards not yet whole are made again, up to :data:`WORKER_RESTARTS` times. Wi
 ``--jobs 1`` the shards are made in this process.
 
 ``ray``: ``--jobs`` Ray actors, each loading the model once; a task is a shard; the
-actors report each scene through a Ray queue (an actor of no CPU); a task that fails (an
-error, or its actor killed: the actor is restarted) is submitted again, up to
-:data:`SHARD_ATTEMPTS` times, so a lost worker costs only its shard. The actors write
+actors report each scene through a Ray queue (an actor of no CPU); a task that raises is
+submitted again, up to :data:`SHARD_ATTEMPTS` times, and a task whose actor was killed
+(the actor is restarted, up to :data:`ACTOR_RESTARTS` times) as long as actors may
+restart, so a lost worker costs only its shard. The actors write
 into ``OUT`` themselves: on a cluster, ``OUT`` must be on a file system every node sees.
 
 Every shard is written whole or not at all (:func:`pair2scene.dataset.shards.make_shard`)
@@ -40,7 +41,8 @@ from pair2scene.errors import UserError
 EXECUTORS = ("local", "ray")
 """The ``--executor`` choices."""
 SHARD_ATTEMPTS = 3
-"""Ray: how many times a shard is tried before the run fails."""
+"""Ray: how many times a shard that raises is tried before the run fails (a shard whose
+actor was lost is tried again as long as actors may restart)."""
 ACTOR_RESTARTS = 4
 """Ray: how many times a killed actor is restarted."""
 WORKER_RESTARTS = 4
@@ -307,11 +309,13 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
         from ray.util.queue import Queue
 
         reports = Queue(actor_options={"num_cpus": 0})
+        # (tasks are retried here, not by Ray, so that the summary counts the retries)
         actor_class = ray.remote(num_cpus=1, max_restarts=ACTOR_RESTARTS,
-                                 max_task_retries=SHARD_ATTEMPTS - 1)(_ShardActor)  # fmt: skip
+                                 max_task_retries=0)(_ShardActor)  # fmt: skip
         actors = [actor_class.remote() for _ in range(min(jobs, len(todo)))]
         queue = list(todo)
         attempts: Counter = Counter()
+        lost = 0
         running: dict = {}  # ref -> (actor, index, items)
         idle = list(actors)
         while queue or running:
@@ -321,7 +325,7 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
                 ref = actor.make.remote(str(out), config, index, items, reports)
                 running[ref] = (actor, index, items)
             ready, _ = ray.wait(list(running), num_returns=1, timeout=POLL_SECONDS)
-            for record in reports.get_nowait_batch(reports.size()):
+            for record in _reported(ray, reports):
                 done(record)
             if not ready:
                 continue
@@ -330,11 +334,20 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
             idle.append(actor)
             try:
                 records = ray.get(ref)
-            except (ray.exceptions.RayError, OSError) as e:
+            except ray.exceptions.RayTaskError as e:  # the shard's own error
                 attempts[index] += 1
                 if attempts[index] >= SHARD_ATTEMPTS:
                     raise UserError(
                         f"shard {index} failed {SHARD_ATTEMPTS} times; last: {_first_line(e)}"
+                    ) from None
+                queue.append((index, items))
+                continue
+            except (ray.exceptions.RayError, OSError) as e:  # its actor lost (restarting)
+                lost += 1
+                if lost > ACTOR_RESTARTS * len(actors):
+                    raise UserError(
+                        f"Ray workers lost {lost} times; last: {_first_line(e)}; rerun the "
+                        "same command to resume"
                     ) from None
                 queue.append((index, items))
                 continue
@@ -343,7 +356,16 @@ def _run_ray(ray, out: Path, config: DatasetConfig, todo: list, jobs: int,
     finally:
         if started:
             ray.shutdown()
-    return sum(attempts.values())
+    return sum(attempts.values()) + lost
+
+
+def _reported(ray, reports) -> list:
+    """The scenes the actors reported since the last look (progress only: a lost queue
+    actor leaves the bar to the shards' own records)."""
+    try:
+        return reports.get_nowait_batch(reports.size())
+    except (ray.exceptions.RayError, queue_module.Empty):
+        return []
 
 
 RAY_CONNECT_SECONDS = 10.0
