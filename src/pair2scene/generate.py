@@ -177,6 +177,7 @@ class Pair2Scene:
                              walls=WallRules.from_stats(self.stats),
                              anchors=AnchorRules.from_stats(self.stats),
                              spots=SpotRules.from_stats(self.stats),
+                             same_model=self.stats.same_model_shares(),
                              top_free=self.stats.top_kept_free(
                                  max_share=self.config.assembly.top_free_share))  # fmt: skip
 

@@ -207,6 +207,11 @@ class AssemblyConfig:
     25 things placed in the fridges of 10 kitchens stood on the fridge's roof."""
     navigation: NavigationConfig = NavigationConfig()
     """The agent (radius 0.2 m by default) and the grid the guard keeps the floor for."""
+    matching: bool = True
+    """Floor objects of one category in a room are one model (size, style and mesh of the
+    first) as often as in the training rooms
+    (:meth:`~pair2scene.curation.stats.HierarchyStats.same_model_shares`: a room's chairs
+    match in 0.95 of them); False draws each object's model on its own."""
     reject: bool = True
     """Ablation (``--ablation no-rejection``): False takes each object's first candidate
     (after the rest step when ``gravity``; left where drawn when nothing carries it) and
@@ -368,6 +373,7 @@ class Placer:
         anchors: AnchorRules | None = None,
         top_free: frozenset[str] = frozenset(),
         spots: SpotRules | None = None,
+        same_model: dict[str, float] | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -389,6 +395,9 @@ class Placer:
         self.spots = spots
         """Where and how objects stand on their supports (None: as the model draws
         them)."""
+        self.same_model = same_model or {}
+        """Floor category -> share of training rooms whose objects of it are one model
+        (:attr:`AssemblyConfig.matching`)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -397,14 +406,21 @@ class Placer:
         objects', as they are). Objects on a support take a size that fits one of its
         surfaces (a book shorter than the shelf's clearance, a television about as wide
         as its stand's top, as the training rooms' were: :attr:`SpotGeometry.overhang
-        <pair2scene.assembly.anchors.SpotGeometry.overhang>`) when the data has one."""
+        <pair2scene.assembly.anchors.SpotGeometry.overhang>`) when the data has one. The
+        floor objects of a category share its first one's asset in a room drawn to match
+        (:attr:`AssemblyConfig.matching`)."""
         from pair2scene.assets.registry import generate
 
         assets: dict[str, Asset] = dict(given or {})
+        models: dict[str, Asset | None] = {}  # floor category -> the room's one model of it
         for item in hierarchy.sequence():
             node = item.dependent
             if node.id in assets:
                 continue
+            if item.support == FLOOR and self.config.matching:
+                if models.get(node.category) is not None:
+                    assets[node.id] = models[node.category]
+                    continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
             held = assets.get(item.support) if item.support != FLOOR else None
             margins = [None]
@@ -425,6 +441,10 @@ class Placer:
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:
                     break  # (one drawn wider than its support can carry: as narrow as any)
             assets[node.id] = asset
+            if item.support == FLOOR and node.category not in models:
+                share = self.same_model.get(node.category, 0.0)
+                one = np.random.default_rng(asset_seed(f"{node.category}#model", seed))
+                models[node.category] = asset if share > 0 and one.random() < share else None
         return assets
 
     def place(
