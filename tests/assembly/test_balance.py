@@ -97,7 +97,8 @@ def test_largest_first_keeps_anchors_before_dependents():
     assert max(order.index(o) for o in ("bed_0", desk.id, chair.id)) < order.index(pen.id)
 
 
-def test_push_out_frees_a_shallow_overlap():
+def _overlapping_cubes() -> tuple[Asset, MeshWorld, Shape, Shape]:
+    """A unit cube placed as "a" at x = 0.9 and a candidate cube 0.1 m into it at x = 0."""
     cube = Asset("x", np.ones(3), (Part("b", box([0, 0, 0], [1, 1, 1])),))
     world = MeshWorld()
     placed = Shape(cube)
@@ -105,6 +106,11 @@ def test_push_out_frees_a_shallow_overlap():
     world.add("a", placed)
     cand = Shape(cube)
     cand.set_pose(np.eye(3), np.array([0.0, 0.0, 0.5]))
+    return cube, world, placed, cand
+
+
+def test_push_out_frees_a_shallow_overlap():
+    cube, world, _, cand = _overlapping_cubes()
     push = world.push_out(cand, ["a"])
     assert push[0] == pytest.approx(-0.102, abs=1e-6) and abs(push[1]) < 1e-9 and push[2] == 0
     cand.set_pose(np.eye(3), np.array([push[0], 0.0, 0.5]))
@@ -121,13 +127,7 @@ def test_push_out_frees_a_shallow_overlap():
 def test_pairs_kept_for_a_pose_follow_every_move():
     """colliding() then push_out() share the pairs found for the candidate's pose; a new
     pose of the candidate or of a placed object, or a changed world, finds them anew."""
-    cube = Asset("x", np.ones(3), (Part("b", box([0, 0, 0], [1, 1, 1])),))
-    world = MeshWorld()
-    placed = Shape(cube)
-    placed.set_pose(np.eye(3), np.array([0.9, 0.0, 0.5]))
-    world.add("a", placed)
-    cand = Shape(cube)
-    cand.set_pose(np.eye(3), np.array([0.0, 0.0, 0.5]))
+    cube, world, placed, cand = _overlapping_cubes()
     assert world.colliding(cand, ["a"]) == ["a"]
     assert world.push_out(cand, ["a"])[0] == pytest.approx(-0.102, abs=1e-6)
     cand.set_pose(np.eye(3), np.array([-0.2, 0.0, 0.5]))  # the candidate moved clear
