@@ -211,7 +211,7 @@ class AssemblyConfig:
     """Floor objects of one category in a room are one model (size, style and mesh of the
     first) as often as in the training rooms
     (:meth:`~pair2scene.curation.stats.HierarchyStats.same_model_shares`: a room's chairs
-    match in 0.95 of them); False draws each object's model on its own."""
+    match in 0.85 of them); False draws each object's model on its own."""
     reject: bool = True
     """Ablation (``--ablation no-rejection``): False takes each object's first candidate
     (after the rest step when ``gravity``; left where drawn when nothing carries it) and
