@@ -20,7 +20,6 @@ written is dropped, exit 143).
 from __future__ import annotations
 
 import contextlib
-import os
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
@@ -41,6 +40,7 @@ from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy, room_key
 from pair2scene.hierarchy.synthesis import MAX_OBJECTS_LIMIT, HierarchyConfig, load_stats
 from pair2scene.hierarchy.tree import Hierarchy
+from pair2scene.io.atomic import folder_lock
 from pair2scene.io.export import ExportConfig
 from pair2scene.io.summary import Summary, resume_summary
 from pair2scene.scene.model import FLOOR, Scene, on_wall
@@ -417,37 +417,6 @@ on a resume (the same seed gives the same files)."""
 
 
 @contextlib.contextmanager
-def _only_writer(out: Path) -> Iterator[None]:
-    """Hold an exclusive lock on the folder ``out`` (flock on the folder itself: no lock
-    file, released when the process ends however it ends); another run writing there is
-    a UserError. Where locks are not supported, runs unlocked."""
-    try:
-        import fcntl
-    except ImportError:  # (not POSIX)
-        fcntl = None
-    fd = None
-    if fcntl is not None:
-        with contextlib.suppress(OSError):
-            fd = os.open(out, os.O_RDONLY)
-    if fd is None:
-        yield
-        return
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise UserError(
-                f"{out}: another pair2scene generate is writing there; wait for it to end, "
-                "or choose another --out"
-            ) from None
-        except OSError:
-            pass  # (a file system without locks)
-        yield
-    finally:
-        os.close(fd)
-
-
-@contextlib.contextmanager
 def _terminate_unwinds() -> Iterator[None]:
     """While writing, SIGTERM raises SystemExit(143) (as Ctrl-C raises KeyboardInterrupt)
     so that the scene being written is removed on the way out; only in the main thread and
@@ -562,7 +531,10 @@ def generate_scenes(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise UserError(f"{out}: cannot create the folder ({e.strerror or e})") from None
-    with _only_writer(out), _terminate_unwinds():
+    busy = (
+        "another pair2scene generate is writing there; wait for it to end, or choose another --out"
+    )
+    with folder_lock(out, busy), _terminate_unwinds():
         clean_output_folder(out)
         summary = resume_summary(out, request)  # (again: what an earlier run added since)
         write_seconds, since = 0.0, time.monotonic()

@@ -39,12 +39,12 @@ import tarfile
 import tempfile
 import time
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 
 from pair2scene.dataset.plan import DatasetConfig, PlannedScene, plan_shards
 from pair2scene.errors import UserError
-from pair2scene.io.atomic import atomic_open, atomic_write_text, current_umask
+from pair2scene.io.atomic import atomic_open, atomic_write_text, current_umask, folder_lock
 
 MANIFEST = "manifest.json"
 """The dataset's description, in OUT."""
@@ -401,26 +401,9 @@ def write_index(out: Path, config: DatasetConfig) -> Path | None:
     return out / INDEX
 
 
-@contextlib.contextmanager
-def dataset_lock(out: Path, shared: bool) -> Iterator[None]:
+def dataset_lock(out: Path, shared: bool):
     """Hold a lock on the folder ``out`` while writing: exclusive for a whole run, shared
     for a ``--shard i/N`` slice (slices of one dataset run side by side, a whole run not
     beside them). A conflicting run is a one-line UserError; without flock, unlocked."""
-    try:
-        import fcntl
-    except ImportError:  # (not POSIX)
-        yield
-        return
-    fd = os.open(out, os.O_RDONLY)
-    try:
-        try:
-            fcntl.flock(fd, (fcntl.LOCK_SH if shared else fcntl.LOCK_EX) | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise UserError(
-                f"{out}: another pair2scene dataset run is writing there; wait for it to end"
-            ) from None
-        except OSError:
-            pass  # (a file system without locks)
-        yield
-    finally:
-        os.close(fd)
+    busy = "another pair2scene dataset run is writing there; wait for it to end"
+    return folder_lock(out, busy, shared)

@@ -125,3 +125,34 @@ def replace_folder(folder: str | os.PathLike, fill: Callable[[Path], object]) ->
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
     return folder
+
+
+@contextlib.contextmanager
+def folder_lock(folder: str | os.PathLike, busy: str, shared: bool = False) -> Iterator[None]:
+    """Hold a lock on ``folder`` itself while writing into it (flock on the folder: no lock
+    file, released when the process ends however it ends): exclusive, or ``shared`` with
+    other shared holders. A conflicting holder is a one-line UserError, ``"<folder>:
+    <busy>"``. Where locks are not supported (no fcntl, a folder that cannot be opened, a
+    file system without locks), it runs unlocked."""
+    from pair2scene.errors import UserError
+
+    try:
+        import fcntl
+    except ImportError:  # (not POSIX)
+        yield
+        return
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, (fcntl.LOCK_SH if shared else fcntl.LOCK_EX) | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise UserError(f"{folder}: {busy}") from None
+        except OSError:
+            pass  # (a file system without locks)
+        yield
+    finally:
+        os.close(fd)
