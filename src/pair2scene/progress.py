@@ -8,13 +8,9 @@ from typing import TypeVar
 T = TypeVar("T")
 
 
-def track(
-    items: Iterable[T], description: str, enabled: bool = True, total: int | None = None
-) -> Iterator[T]:
-    """Yield ``items``, showing a progress bar on stderr when ``enabled``."""
-    if not enabled:
-        yield from items
-        return
+def progress_bar(*extra, description: str = "{task.description}"):
+    """A rich ``Progress`` on stderr: description, bar, done of total, ``extra`` columns,
+    time elapsed and time left."""
     from rich.console import Console
     from rich.progress import (
         BarColumn,
@@ -25,16 +21,27 @@ def track(
         TimeRemainingColumn,
     )
 
-    if total is None and isinstance(items, Sized):
-        total = len(items)
     columns = (
-        TextColumn("{task.description}"),
+        TextColumn(description),
         BarColumn(),
         MofNCompleteColumn(),
+        *(TextColumn(c) for c in extra),
         TimeElapsedColumn(),
         TimeRemainingColumn(),
     )
-    with Progress(*columns, console=Console(stderr=True), transient=False) as bar:
+    return Progress(*columns, console=Console(stderr=True), transient=False)
+
+
+def track(
+    items: Iterable[T], description: str, enabled: bool = True, total: int | None = None
+) -> Iterator[T]:
+    """Yield ``items``, showing a progress bar on stderr when ``enabled``."""
+    if not enabled:
+        yield from items
+        return
+    if total is None and isinstance(items, Sized):
+        total = len(items)
+    with progress_bar() as bar:
         task = bar.add_task(description, total=total)
         for item in items:
             yield item

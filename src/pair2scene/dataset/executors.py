@@ -413,21 +413,9 @@ class _Bar:
 
     def __enter__(self) -> _Bar:
         if self.enabled:
-            from rich.console import Console
-            from rich.progress import (
-                BarColumn,
-                MofNCompleteColumn,
-                Progress,
-                TextColumn,
-                TimeElapsedColumn,
-                TimeRemainingColumn,
-            )
+            from pair2scene.progress import progress_bar
 
-            self.progress = Progress(
-                TextColumn("scenes"), BarColumn(), MofNCompleteColumn(),
-                TextColumn("{task.fields[rate]}"), TimeElapsedColumn(), TimeRemainingColumn(),
-                console=Console(stderr=True),
-            )  # fmt: skip
+            self.progress = progress_bar("{task.fields[rate]}", description="scenes")
             self.progress.__enter__()
             self.task = self.progress.add_task("scenes", total=self.total, rate="")
             self.start = time.monotonic()
