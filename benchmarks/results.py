@@ -119,6 +119,7 @@ def table(rows: dict[str, dict | None]) -> list[str]:
 
 LAYOUT = (
     ("layout", "against_wall", "against wall"),
+    ("layout", "in_corner", "in a corner"),
     ("layout", "chairs_facing_table", "chairs at table"),
     ("layout", "sofas_facing_tv", "sofa faces TV"),
     ("layout", "nightstands_at_bed_head", "nightstand at bed"),
@@ -155,24 +156,33 @@ def layout_table(rows: dict[str, dict | None]) -> list[str]:
 
     lines.append(row("real (reference)", "reference", first))
     lines += [row(name, "generated", rep) for name, rep in reports.items()]
-    cats = [k for k in first.get("layout", {}) if k.startswith("against_wall/")]
-    cats = [k for k in cats if any(
-        (r.get("layout", {}).get(k, {}).get(side) or {}).get("rate") is not None
-        for r in reports.values() for side in ("generated", "reference"))]  # fmt: skip
-    if cats:
-        lines += ["", "| against a wall | " + " | ".join(k.split("/", 1)[1] for k in cats) + " |",
-                  "|" + "---|" * (len(cats) + 1)]  # fmt: skip
-
-        def cat_row(name: str, side: str, rep: dict) -> str:
-            return (
-                f"| {name} | "
-                + " | ".join(_rate(rep.get("layout", {}).get(k, {}).get(side)) for k in cats)
-                + " |"
-            )
-
-        lines.append(cat_row("real (reference)", "reference", first))
-        lines += [cat_row(name, "generated", rep) for name, rep in reports.items()]
+    against = {k.split("/", 1)[1]: v for k, v in first.get("layout", {}).items()
+               if k.startswith("against_wall/")}  # fmt: skip
+    lines += _category_table("against a wall", against, lambda r: {
+        k.split("/", 1)[1]: v for k, v in r.get("layout", {}).items()
+        if k.startswith("against_wall/")}, first, reports)  # fmt: skip
+    lines += _category_table("in a corner", first.get("layout", {}).get(
+        "in_corner_by_category", {}), lambda r: r.get("layout", {}).get(
+        "in_corner_by_category", {}), first, reports)  # fmt: skip
     return lines
+
+
+def _category_table(title: str, rows: dict, of, first: dict, reports: dict) -> list[str]:
+    """One rate per category (columns) for the real rooms and each method (rows); ``of``
+    gives a report's category -> {"generated", "reference"} stats. Categories no room
+    had are left out."""
+    cats = [c for c in rows if any((of(r).get(c, {}).get(side) or {}).get("rate") is not None
+                                   for r in reports.values()
+                                   for side in ("generated", "reference"))]  # fmt: skip
+    if not cats:
+        return []
+
+    def cat_row(name: str, side: str, rep: dict) -> str:
+        return f"| {name} | " + " | ".join(_rate(of(rep).get(c, {}).get(side)) for c in cats) + " |"
+
+    return ["", f"| {title} | " + " | ".join(cats) + " |", "|" + "---|" * (len(cats) + 1),
+            cat_row("real (reference)", "reference", first),
+            *(cat_row(name, "generated", rep) for name, rep in reports.items())]  # fmt: skip
 
 
 def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) -> str | None:

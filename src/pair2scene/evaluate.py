@@ -225,11 +225,13 @@ def image_metrics(
     generated: Sequence[Scene],
     seed: int = 0,
     threads: int | None = None,
+    sca_repeats: int | None = None,
 ) -> dict:
     """FID, KID (x 1e-3) and SCA of the two sets' top views; ``threads``: torch threads
-    for the networks (default: torch's)."""
+    for the networks (default: torch's); ``sca_repeats``: repeats of SCA's k-fold
+    cross-validation (default :data:`~pair2scene.metrics.sca.REPEATS`)."""
     from pair2scene.metrics.fid import InceptionFeatures, fid, kid
-    from pair2scene.metrics.sca import sca
+    from pair2scene.metrics.sca import REPEATS, sca
     from pair2scene.metrics.topview import topview_batch
 
     real = topview_batch([_counted_only(s) for s in reference])
@@ -238,7 +240,8 @@ def image_metrics(
     fr, fg = net.features(real), net.features(fake)
     kid_mean, kid_std = kid(fr, fg, seed=seed)
     if min(len(real), len(fake)) >= MIN_SCA_IMAGES:
-        result = sca(real, fake, seed=seed, threads=threads or 1)
+        result = sca(real, fake, seed=seed, threads=threads or 1,
+                     repeats=REPEATS if sca_repeats is None else sca_repeats)  # fmt: skip
     else:
         result = {"accuracy": None, "note": f"SCA needs {MIN_SCA_IMAGES} scenes in each set"}
     return {
@@ -314,9 +317,11 @@ def evaluate(
     seed: int = 0,
     progress: bool = True,
     threads: int | None = None,
+    sca_repeats: int | None = None,
 ) -> dict:
     """Every metric of a folder of generated scenes against the reference rooms of the
-    same types; written to ``out`` (JSON, atomically) when given."""
+    same types; written to ``out`` (JSON, atomically) when given. ``sca_repeats``:
+    repeats of SCA's cross-validation (:func:`~pair2scene.metrics.sca.sca`)."""
     from pair2scene.io.scene_json import read_scene
     from pair2scene.metrics.distribution import category_kl, pose_mmd
 
@@ -355,7 +360,8 @@ def evaluate(
 
         what = f"FID, KID and SCA on {len(reference)} + {len(generated)} top views"
         with Console(stderr=True).status(what) if progress else nullcontext():
-            img = image_metrics(reference, generated, seed=seed, threads=threads)
+            img = image_metrics(reference, generated, seed=seed, threads=threads,
+                                sca_repeats=sca_repeats)  # fmt: skip
         report.update({k: v for k, v in img.items() if k != "sca_detail"})
         report["details_sca"] = img["sca_detail"]
     else:

@@ -231,16 +231,16 @@ def test_a_single_file_member_is_extracted_under_its_name(tmp_path, monkeypatch)
 def test_sca_cannot_tell_one_distribution_from_itself():
     real = topview_batch(random_scenes(20, 40))
     generated = topview_batch(random_scenes(21, 40))
-    result = sca(real, generated, seed=0)
+    result = sca(real, generated, seed=0, repeats=1)
     assert 0.3 <= result["accuracy"] <= 0.7, result
-    assert result["folds"] == 5 and result["n_per_class"] == 40
+    assert result["folds"] == 5 and result["n_per_class"] == 40 and result["repeats"] == 1
     assert result["n_train"] + result["n_test"] == 80
 
 
 def test_sca_tells_big_boxes_from_small_ones():
     big = topview_batch(random_scenes(30, 30, sizes=(1.0, 1.6)))
     small = topview_batch(random_scenes(31, 36, sizes=(0.2, 0.5)))
-    result = sca(big, small, seed=0)
+    result = sca(big, small, seed=0, repeats=1)
     assert result["accuracy"] > 0.9, result
     assert result["n_per_class"] == 30  # balanced: the larger set is subsampled
 
@@ -254,3 +254,19 @@ def test_sca_is_deterministic_and_leaves_torch_state_alone():
     assert torch.get_num_threads() == threads and torch.equal(torch.get_rng_state(), state)
     with pytest.raises(UserError, match="at least 5 images"):
         sca(real[:3], generated, seed=0)
+
+
+def test_sca_repeats_average_fresh_folds_and_start_with_the_single_run():
+    real = topview_batch(random_scenes(42, 12), size=64)
+    generated = topview_batch(random_scenes(43, 10), size=64)
+    one = sca(real, generated, seed=5, epochs=2, repeats=1)
+    three = sca(real, generated, seed=5, epochs=2, repeats=3)
+    assert three["repeats"] == 3 and three["folds"] == 5 and three["n_per_class"] == 10
+    # the first repeat is the single run; the mean of all three is a mean of 15 folds
+    # of 4 test images each, so 60 * accuracy is a whole number of right answers
+    rest = (3 * three["accuracy"] - one["accuracy"]) / 2
+    assert 0.0 <= rest <= 1.0
+    assert abs(60 * three["accuracy"] - round(60 * three["accuracy"])) < 1e-6
+    assert sca(real, generated, seed=5, epochs=2, repeats=3) == three
+    with pytest.raises(UserError, match="repeats must be 1 .. 100"):
+        sca(real, generated, repeats=0)

@@ -46,12 +46,12 @@ def test_a_bed_against_a_wall_mid_room_and_facing_the_wall():
     against = obj("b1", "bed", [2, 1.05], BED)  # headboard 5 cm off the wall y = 0
     middle = obj("b2", "bed", [2, 2], BED)
     facing_wall = obj("b3", "bed", [2, 1.05], BED, yaw=SOUTH)  # its foot at the wall
-    assert against_wall_counts(room(against)) == {"bed": [1, 1]}
-    assert against_wall_counts(room(middle)) == {"bed": [0, 1]}
-    assert against_wall_counts(room(facing_wall)) == {"bed": [0, 1]}
+    assert against_wall_counts(room(against)) == {"bed": [1, 1, 0]}
+    assert against_wall_counts(room(middle)) == {"bed": [0, 1, 0]}
+    assert against_wall_counts(room(facing_wall)) == {"bed": [0, 1, 0]}
     # turned to the east wall x = 4, 10 cm off it
     east = obj("b4", "bed", [4 - 1.0 - 0.1, 2], BED, yaw=WEST)
-    assert against_wall_counts(room(east)) == {"bed": [1, 1]}
+    assert against_wall_counts(room(east)) == {"bed": [1, 1, 0]}
 
 
 def test_per_category_and_pooled_over_the_wall_furniture():
@@ -75,7 +75,7 @@ def test_only_floor_objects_count():
     unknown_low = obj("b", "bed", [2, 1.05], BED, support=None, z=0.31)  # 1 cm up
     unknown_high = obj("f", "fridge", [3.6, 0.35], [0.7, 0.7, 1.8], support=None, z=1.0)
     assert not on_floor(on_it) and on_floor(unknown_low) and not on_floor(unknown_high)
-    assert against_wall_counts(room(on_it, unknown_low, unknown_high)) == {"bed": [1, 1]}
+    assert against_wall_counts(room(on_it, unknown_low, unknown_high)) == {"bed": [1, 1, 0]}
 
 
 def test_l_shaped_room_walls_at_the_reflex_corner():
@@ -86,12 +86,29 @@ def test_l_shaped_room_walls_at_the_reflex_corner():
     # a shelving unit in the cut-out corner's diagonal, 0.5 m from both walls
     shelf = obj("shelf", "shelving_unit", [1.2, 1.2], [0.8, 0.3, 1.8], yaw=np.pi / 4)
     counts = against_wall_counts(room(bed, dresser, shelf, polygon=L_SHAPE))
-    assert counts == {"bed": [1, 1], "dresser": [1, 1], "shelving_unit": [0, 1]}
+    assert counts == {"bed": [1, 1, 0], "dresser": [1, 1, 0], "shelving_unit": [0, 1, 0]}
     # the same bed in the square room stands mid-room: the L's walls are what it touches
-    assert against_wall_counts(room(bed)) == {"bed": [0, 1]}
+    assert against_wall_counts(room(bed)) == {"bed": [0, 1, 0]}
+
+
+def test_in_a_corner_takes_two_walls_and_not_the_inner_corner_of_an_l():
+    fridge = obj("f", "fridge", [4 - 0.35 - 0.05, 4 - 0.35 - 0.05], [0.7, 0.7, 1.8], yaw=SOUTH)
+    counter = obj("c", "counter_top", [2, 0.3], [1.2, 0.6, 0.9])  # back to y = 0 only
+    chair = obj("ch", "chair", [0.3, 0.3], CHAIR_SIZE)  # a corner, but no wall furniture
+    m = layout_measures(room(fridge, counter, chair, kind="kitchen"))
+    assert m["in_corner"] == [1, 2] and m["against_wall"] == [2, 2]
+    assert m["in_corner/fridge"] == [1, 1] and m["in_corner/counter_top"] == [0, 1]
+    assert m["in_corner/chair"] == [1, 1]
+    # in the L, a dresser pushed into the inner corner (2, 2) from below-left touches
+    # both of its walls only from outside the room: it stands against one
+    dresser = obj("d", "dresser", [0.62, 3.73], [1.2, 0.5, 0.8], yaw=SOUTH)  # NW: a corner
+    inner = obj("i", "dresser", [2.62, 1.73], [1.2, 0.5, 0.8], yaw=SOUTH)  # x = 2.02 .. 3.22
+    counts = against_wall_counts(room(dresser, inner, polygon=L_SHAPE))
+    assert counts == {"dresser": [2, 2, 1]}
 
 
 # -- chairs at tables ------------------------------------------------------------------
+CHAIR_SIZE = [0.45, 0.45, 0.9]
 TABLE = obj("table", "dining_table", [2, 2], [1.2, 0.8, 0.75])
 CHAIR = [0.45, 0.45, 0.9]
 

@@ -32,6 +32,10 @@ MIN_DISTANCE_STD_M = 0.3
 """Floor on the spread of a pair's learned anchor distance (few pairs have many rooms)."""
 _SALT = 18
 """Mixed into the object's seed for the wall draw (independent of its asset's draws)."""
+_CORNER_SALT = 23
+"""The same for the corner draw."""
+CORNER_GAP_M = 0.005
+"""Gap left between an object put in a corner and the second wall."""
 
 
 @dataclass
@@ -44,6 +48,9 @@ class WallRules:
     distances: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     """dependent -> functional anchor -> (mean, std) of the anchor's distance (m) from the
     dependent's wall."""
+    corners: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
+    """room type -> category -> (in a corner, against a wall): how many of the objects
+    against a wall stood against two at once."""
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> WallRules:
@@ -55,6 +62,10 @@ class WallRules:
             rt: {c: (rs.against_wall.get(c, 0), n) for c, n in rs.on_floor.items()}
             for rt, rs in types.items()
         }
+        corners = {
+            rt: {c: (rs.in_corner.get(c, 0), n) for c, n in rs.against_wall.items()}
+            for rt, rs in types.items()
+        }
         distances: dict[str, dict[str, tuple[float, float]]] = {}
         for dep, per_anchor in stats.wall_anchor.items():
             for anchor, (n, total, squares) in per_anchor.items():
@@ -63,7 +74,7 @@ class WallRules:
                 mean = total / n
                 std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
                 distances.setdefault(dep, {})[anchor] = (mean, std)
-        return cls(rates, distances)
+        return cls(rates, distances, corners)
 
     def rate(self, room_type: str, category: str) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
@@ -78,6 +89,22 @@ class WallRules:
         """Whether an object (``seed``: its asset seed) stands against a wall: a draw."""
         u = np.random.default_rng([seed, _SALT]).random()
         return bool(u < self.rate(room_type, category))
+
+    def corner_rate(self, room_type: str, category: str) -> float:
+        """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
+        in a corner (over every room type when this one never had one against a wall)."""
+        table = self.corners
+        inside, n = table.get(room_type, {}).get(category, (0, 0))
+        if n == 0:
+            pooled = [r[category] for r in table.values() if category in r]
+            inside, n = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
+        return inside / n if n else 0.0
+
+    def in_corner(self, room_type: str, category: str, seed: int) -> bool:
+        """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
+        a draw, independent of the wall draw."""
+        u = np.random.default_rng([seed, _CORNER_SALT]).random()
+        return bool(u < self.corner_rate(room_type, category))
 
     def distance(self, dependent: str, anchor: str) -> tuple[float, float] | None:
         """(mean, std) of ``anchor``'s distance from ``dependent``'s wall, if learned."""
@@ -125,6 +152,50 @@ def free_stretches(
             continue
         free = intervals_minus(free, corners[:, 0].min(), corners[:, 0].max())
     return free
+
+
+def within_reach(
+    wall: Wall, anchor: OrientedBox, depth: float, gap: float, width: float, facing: bool
+) -> bool:
+    """Whether an object ``depth`` deep and ``width`` wide standing with its back to
+    ``wall`` can come within ``gap`` of ``anchor``'s footprint: the anchor's nearest
+    corner is at most ``depth + gap`` from the wall's line and its span along the wall
+    meets the wall widened by that much and half the object. ``facing``: the object
+    faces the anchor, so it stands between the wall and the anchor, which must leave it
+    its depth. A chair at a table in the middle of the room, or at a table whose end is
+    half a chair from the wall, has no such wall."""
+    corners = wall.local(anchor.corners()[:, :2])
+    nearest = corners[:, 1].min()
+    if nearest > depth + gap or corners[:, 1].max() < 0.0 or (facing and nearest < depth):
+        return False
+    half = wall.length / 2 + depth + gap + width / 2
+    return bool(corners[:, 0].max() >= -half and corners[:, 0].min() <= half)
+
+
+def to_corners(
+    box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M
+) -> list[OrientedBox]:
+    """``box`` (standing against ``wall``) slid along the wall into each of its convex
+    corners (``ends``: whether the wall's start and end are such corners,
+    :func:`~pair2scene.scene.walls.convex_ends`), ``gap`` short of the other wall, the
+    nearer corner first; none when neither end is a corner or the box is longer than
+    the wall."""
+    along = wall.local(box.corners()[:, :2])[:, 0]
+    lo, hi = float(along.min()), float(along.max())
+    half = wall.length / 2
+    if hi - lo > wall.length:
+        return []
+    shifts = []  # (distance moved, shift along the wall)
+    if ends[0]:
+        shifts.append((abs(lo + half), -half + gap - lo))
+    if ends[1]:
+        shifts.append((abs(half - hi), half - gap - hi))
+    out = []
+    for _, shift in sorted(shifts):
+        center = box.center.copy()
+        center[:2] += shift * wall.direction
+        out.append(OrientedBox(center, box.size, box.rotation))
+    return out
 
 
 def free_length(stretches: list[tuple[float, float]], width: float) -> float:

@@ -42,7 +42,7 @@ from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall
 from pair2scene.scene.relations import faces, footprint, footprint_gap
-from pair2scene.scene.walls import walls_of
+from pair2scene.scene.walls import in_corner, walls_of
 
 STATS_FORMAT = "pair2scene.hierarchy_stats"
 STATS_VERSION = 1
@@ -145,6 +145,11 @@ class RoomTypeStats:
     against_wall: Counter[str] = field(default_factory=Counter)
     """Category -> of those, how many stand against a wall. Empty in statistics written
     before it was kept (then no object takes a wall anchor)."""
+    in_corner: Counter[str] = field(default_factory=Counter)
+    """Category -> of those against a wall, how many stand in a corner: against two walls
+    at once (:func:`~pair2scene.scene.walls.in_corner`; a kitchen's counters and fridge,
+    a bedroom's dresser). Empty in statistics written before it was kept (then no object
+    is put in a corner)."""
     window_counts: Counter[int] = field(default_factory=Counter)
     """Windows in a room -> number of rooms. Empty in statistics written before it was
     kept (then generated rooms have no windows)."""
@@ -188,6 +193,7 @@ class RoomTypeStats:
         self.layout_counts.update(other.layout_counts)
         self.on_floor.update(other.on_floor)
         self.against_wall.update(other.against_wall)
+        self.in_corner.update(other.in_corner)
         self.window_counts.update(other.window_counts)
         self.window_shapes.update(other.window_shapes)
         self.floor_shapes.update(other.floor_shapes)
@@ -332,6 +338,7 @@ class HierarchyStats:
             room.on_floor[o.category] += 1
             wall = wall_anchor(scene, o, walls)
             room.against_wall[o.category] += int(wall is not None)
+            room.in_corner[o.category] += int(wall is not None and in_corner(o.box, walls))
             anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
             if wall is not None and anchor is not None:
                 d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres
@@ -448,7 +455,7 @@ class HierarchyStats:
             part = self.room_types[base]
             scale = weight / sum(bases.values()) * pooled.rooms / part.rooms
             for name in ("layouts", "object_counts", "layout_counts", "on_floor",
-                         "against_wall", "window_counts", "window_shapes",
+                         "against_wall", "in_corner", "window_counts", "window_shapes",
                          "floor_shapes"):  # fmt: skip
                 counts = getattr(pooled, name)
                 for key, n in getattr(part, name).items():
@@ -480,7 +487,11 @@ class HierarchyStats:
                 },
                 "object_counts": counts(rs.object_counts),
                 "walls": {
-                    cat: {"on_floor": n, "against_wall": rs.against_wall.get(cat, 0)}
+                    cat: {
+                        "on_floor": n,
+                        "against_wall": rs.against_wall.get(cat, 0),
+                        "in_corner": rs.in_corner.get(cat, 0),
+                    }
                     for cat, n in sorted(rs.on_floor.items())
                 },
                 "window_counts": counts(rs.window_counts),
@@ -540,6 +551,7 @@ class HierarchyStats:
                 for cat, w in rd.get("walls", {}).items():
                     rs.on_floor[cat] = int(w["on_floor"])
                     rs.against_wall[cat] = int(w["against_wall"])
+                    rs.in_corner[cat] = int(w.get("in_corner", 0))
                 for k, v in rd.get("window_counts", {}).items():
                     rs.window_counts[int(k)] = int(v)
                 for width, sill, top, n in rd.get("window_shapes", []):

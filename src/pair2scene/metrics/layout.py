@@ -10,6 +10,11 @@ rooms, so the figures compare directly.
   room (:func:`pair2scene.scene.walls.against_wall`: within 0.15 m, parallel within 15
   degrees, overlapping the wall), pooled over :data:`WALL_FURNITURE` and per category
   (``against_wall/<category>``).
+- ``in_corner``: the same floor objects standing against two walls at once, in a corner
+  of the room (:func:`pair2scene.scene.walls.in_corner`: any two faces within 0.15 m of
+  two walls), pooled and per category (``in_corner/<category>``, the section's
+  ``in_corner_by_category``): real kitchens put 0.86 of their counters and 0.87 of their
+  fridges in a corner, real bedrooms 0.82 of their dressers.
 - ``chairs_facing_table``: chairs (:data:`CHAIRS`) with a table (:data:`TABLES`) within
   :data:`TABLE_NEAR_M` (footprint to footprint) whose front points at the nearest such
   table: the angle between the chair's +y and the direction from its centre to the
@@ -40,7 +45,7 @@ from pair2scene.scene.relations import (
     footprint,
     footprint_gap,
 )
-from pair2scene.scene.walls import against_wall, walls_of
+from pair2scene.scene.walls import against_wall, in_corner, walls_of
 
 WALL_FURNITURE = (
     "bed", "sofa", "dresser", "wardrobe", "tv_stand", "shelving_unit", "fridge", "counter_top",
@@ -80,7 +85,13 @@ BED_HEAD_MARGIN_M = 0.3
 """... and in the head half of the bed: between its centre and this far behind its
 headboard (local y from -(half length + margin) to 0; the headboard is at -y)."""
 
-MEASURES = ("against_wall", "chairs_facing_table", "sofas_facing_tv", "nightstands_at_bed_head")
+MEASURES = (
+    "against_wall",
+    "in_corner",
+    "chairs_facing_table",
+    "sofas_facing_tv",
+    "nightstands_at_bed_head",
+)
 """The pooled measures, in the order they are reported."""
 _SKIPPED = (SuperCategory.STRUCTURE, SuperCategory.PART)
 
@@ -117,13 +128,15 @@ def beside_bed_head(nightstand: OrientedBox, bed: OrientedBox) -> bool:
 
 # -- the measures, one room ------------------------------------------------------------
 def against_wall_counts(scene: Scene) -> dict[str, list[int]]:
-    """category -> [against a wall, floor objects] over the room's floor objects."""
+    """category -> [against a wall, floor objects, in a corner] over the room's floor
+    objects."""
     walls = walls_of(scene.room.floor_polygon)
     out: dict[str, list[int]] = {}
     for o in _floor_objects(scene):
-        row = out.setdefault(o.category, [0, 0])
+        row = out.setdefault(o.category, [0, 0, 0])
         row[0] += against_wall(o.box, walls)
         row[1] += 1
+        row[2] += in_corner(o.box, walls)
     return dict(sorted(out.items()))
 
 
@@ -172,18 +185,22 @@ def layout_measures(scene: Scene) -> dict[str, list[int]]:
     """Every measure of one room as [numerator, denominator]: the pooled ones of
     :data:`MEASURES` and ``against_wall/<category>`` for each floor category."""
     walls = against_wall_counts(scene)
-    pooled = [0, 0]
+    pooled, corners = [0, 0], [0, 0]
     for cat in WALL_FURNITURE:
-        n, d = walls.get(cat, (0, 0))
+        n, d, c = walls.get(cat, (0, 0, 0))
         pooled[0] += n
         pooled[1] += d
+        corners[0] += c
+        corners[1] += d
     out = {
         "against_wall": pooled,
+        "in_corner": corners,
         "chairs_facing_table": chairs_facing_table(scene),
         "sofas_facing_tv": sofas_facing_tv(scene),
         "nightstands_at_bed_head": nightstands_at_bed_head(scene),
     }
-    out.update({f"against_wall/{cat}": list(c) for cat, c in walls.items()})
+    out.update({f"against_wall/{cat}": [n, d] for cat, (n, d, _) in walls.items()})
+    out.update({f"in_corner/{cat}": [c, d] for cat, (_, d, c) in walls.items()})
     return out
 
 
@@ -228,11 +245,18 @@ def layout_section(reference: Sequence[Scene], generated: Sequence[Scene]) -> di
     holds the same rows for the other floor categories either set has."""
     gen, ref = layout_report(generated), layout_report(reference)
     empty = stat(0, 0, 0)
-    keys = _ordered(set(gen) | set(ref) | {f"against_wall/{c}" for c in WALL_FURNITURE})
+    keys = _ordered(set(gen) | set(ref) | {f"{p}/{c}" for c in WALL_FURNITURE
+                                           for p in ("against_wall", "in_corner")})  # fmt: skip
     rows = {k: {"generated": gen.get(k, empty), "reference": ref.get(k, empty)} for k in keys}
     main = [*MEASURES, *(f"against_wall/{c}" for c in WALL_FURNITURE)]
     out = {k: rows[k] for k in main}
+    corner = {k: v for k, v in rows.items() if k.startswith("in_corner/")}
     out["against_wall_other"] = {
-        k.removeprefix("against_wall/"): v for k, v in rows.items() if k not in out
+        k.removeprefix("against_wall/"): v for k, v in rows.items()
+        if k not in out and k not in corner
+    }  # fmt: skip
+    out["in_corner_by_category"] = {
+        k.removeprefix("in_corner/"): corner.get(k, {"generated": empty, "reference": empty})
+        for k in (f"in_corner/{c}" for c in WALL_FURNITURE)
     }
     return out

@@ -179,6 +179,30 @@ def face_contacts(
     return out
 
 
+def in_corner(box: OrientedBox, walls: list[Wall], max_gap: float = AGAINST_GAP_M) -> bool:
+    """Whether ``box`` stands in a corner: faces of it against two different walls."""
+    return len({c.wall for c in face_contacts(box, walls, max_gap)}) >= 2
+
+
+def convex_ends(walls: list[Wall]) -> dict[int, tuple[bool, bool]]:
+    """Wall index -> whether its start and its end are convex corners of the room (the
+    neighbouring wall turns into the room there, as in every corner of a rectangle; the
+    inner corner of an L-shaped room is not one): where an object can stand against
+    both walls. Walls meet where one's end is the next one's start."""
+    out = {}
+    for w in walls:
+        start = end = False
+        for other in walls:
+            if other is w:
+                continue
+            if np.allclose(other.p1, w.p0, atol=1e-6):
+                start = float(other.normal @ -w.direction) < -1e-6
+            if np.allclose(other.p0, w.p1, atol=1e-6):
+                end = float(other.normal @ w.direction) < -1e-6
+        out[w.index] = (start, end)
+    return out
+
+
 def wall_contact(
     box: OrientedBox,
     walls: list[Wall],
