@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pair2scene.assembly import anchors
 from pair2scene.assembly.anchors import ALIGNED_MIN, MAX_OVERHANG, SpotGeometry, SpotRules
 from pair2scene.assembly.place import AssemblyConfig, Placer
 from pair2scene.assembly.sizes import SizeTable
@@ -179,7 +180,8 @@ def _tv(result) -> OrientedBox:
     return boxes["television"].in_frame_of(boxes["tv_stand"])
 
 
-def test_placement_keeps_a_television_centred_on_its_stand_facing_its_way():
+def test_placement_keeps_a_television_centred_on_its_stand_facing_its_way(monkeypatch):
+    monkeypatch.setattr(anchors, "PIN_STD", 0.0)  # the window alone, not the pinned spot
     h, assets = _tv_on_stand()
     rules = _rules()
     seed = next(s for s in range(50) if rules.check("television", "tv_stand", STAND,
@@ -196,7 +198,8 @@ def test_placement_keeps_a_television_centred_on_its_stand_facing_its_way():
     assert local.center[0] == pytest.approx(0.6, abs=0.01)  # the first candidate, as drawn
 
 
-def test_a_television_drawn_only_off_its_spot_is_moved_onto_it():
+def test_a_television_drawn_only_off_its_spot_is_moved_onto_it(monkeypatch):
+    monkeypatch.setattr(anchors, "PIN_STD", 0.0)
     h, assets = _tv_on_stand()
     placer = Placer(_Stand(off=None), config=_config(), spots=_rules())
     result = placer.place(h, ROOM, seed=0, assets=assets)
@@ -204,6 +207,30 @@ def test_a_television_drawn_only_off_its_spot_is_moved_onto_it():
     u = _tv(result).center[0]
     assert u == pytest.approx(_rules().rule("television", "tv_stand").window("u")[1], abs=0.01)
     assert result.stats.rejections == {"off_spot": 16}
+
+
+def test_a_pair_that_stood_at_one_spot_is_pinned_there():
+    rules = _rules()  # 40 televisions all centred along the stand (u spread 0)
+    check = rules.check("television", "tv_stand", STAND, 0)
+    assert check.pin[0] == pytest.approx(0.0, abs=1e-9)
+    assert check.pin[1] == pytest.approx(0.02 * sum(i % 3 for i in range(40)) / 40)
+    moved = check.pinned(_on_stand(0.4, 0.3, 0.2))
+    local = moved.in_frame_of(STAND)
+    assert local.center[:2] == pytest.approx(check.pin, abs=1e-6)
+    assert moved.center[2] == pytest.approx(_on_stand(0.4).center[2])  # height kept
+    assert moved.yaw == pytest.approx(STAND.yaw + 0.2 - 2 * np.pi)  # and yaw
+    vase = rules.check("vase", "tv_stand", STAND, 0)  # at either end, always at v = 0.1
+    assert vase.pin[0] is None and vase.pin[1] == pytest.approx(0.1)
+    local = vase.pinned(_on_stand(0.8, 0.3)).in_frame_of(STAND)
+    assert local.center[:2] == pytest.approx([0.8, 0.1], abs=1e-6)
+    assert _rules(12).check("television", "tv_stand", STAND, 0).pin == (None, None)  # < 20
+    # placement: every candidate drawn off-centre, the first one moved onto the spot
+    h, assets = _tv_on_stand()
+    result = Placer(_Stand(off=None), config=_config(), spots=rules).place(
+        h, ROOM, seed=0, assets=assets
+    )
+    assert result.stats.placed == 2 and result.stats.rejections == {}
+    assert _tv(result).center[0] == pytest.approx(0.0, abs=1e-6)
 
 
 def _tv_seed(h: Hierarchy, seed: int) -> int:

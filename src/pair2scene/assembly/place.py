@@ -187,7 +187,10 @@ class AssemblyConfig:
     candidate is rejected and some only as ``off_spot``, the first of those (up to
     :data:`SPOT_RETRIES`) are moved onto the nearest point of the spot and tried again: a
     television all of whose draws the model puts off-centre stands centred rather than
-    nowhere. Only for a model that draws in its anchors' frames, as ``anchors``."""
+    nowhere. A pair whose training dependents stood at one spot along an axis (spread
+    under :data:`~pair2scene.assembly.anchors.PIN_STD`: a television centred on its stand
+    to 1 % of its half width) has each candidate first tried moved onto that spot. Only
+    for a model that draws in its anchors' frames, as ``anchors``."""
     largest_first: bool = True
     """Place each support's dependents largest footprint first (anchors still first)."""
     confine: bool = True
@@ -639,7 +642,7 @@ class Placer:
                         accepted = (tried + index, box)
                         stats.repaired += int(moved)
                         break
-                    for tried_box in _corner_first(box, context):
+                    for tried_box in _variants(box, context):
                         settled, reason, moved = self._settle_candidate(tried_box, context)
                         if reason is None:
                             break
@@ -920,13 +923,18 @@ def _too_large(size: np.ndarray, room: Room) -> bool:
     return bool((np.sort(size[:2]) > extent).any())
 
 
-def _corner_first(box: OrientedBox, ctx: _Context) -> list[OrientedBox]:
-    """The boxes to try for one drawn candidate: slid into each corner of its wall
-    first, the nearer one first, when the object is to stand in one
-    (:attr:`_Context.corner`), then as drawn."""
-    if ctx.corner is None or ctx.wall is None:
-        return [box]
-    return [*to_corners(box, ctx.wall, ctx.corner), box]
+def _variants(box: OrientedBox, ctx: _Context) -> list[OrientedBox]:
+    """The boxes to try for one drawn candidate, in order: slid into each corner of its
+    wall, the nearer one first, when the object is to stand in one
+    (:attr:`_Context.corner`); moved onto its pinned spot on its support
+    (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`); then as drawn."""
+    if ctx.corner is not None and ctx.wall is not None:
+        return [*to_corners(box, ctx.wall, ctx.corner), box]
+    if ctx.spot is not None:
+        pinned = ctx.spot.pinned(box)
+        if pinned is not None:
+            return [pinned, box]
+    return [box]
 
 
 @dataclass
