@@ -36,13 +36,14 @@ def test_to_corners_slides_along_the_wall_into_the_nearer_convex_corner_first():
     walls = walls_of(RECT)
     north = walls[2]  # (4,3) -> (0,3): its start is the NE corner, its end the NW one
     box = OrientedBox.from_yaw([2.7, 2.6, 0.9], [0.8, 0.8, 1.8], np.pi)
-    east, west = to_corners(box, north, (True, True))
+    (e0, east), (e1, west) = to_corners(box, north, (True, True))
+    assert (e0, e1) == (0, 1)
     assert east.center[0] == pytest.approx(4 - 0.4 - 0.005)
     assert west.center[0] == pytest.approx(0.4 + 0.005)
     assert east.center[1] == pytest.approx(2.6) and east.center[2] == pytest.approx(0.9)
     assert in_corner(east, walls) and in_corner(west, walls)
-    (only,) = to_corners(box, north, (False, True))  # the NE end is no corner
-    assert only.center[0] == pytest.approx(0.4 + 0.005)
+    ((end, only),) = to_corners(box, north, (False, True))  # the NE end is no corner
+    assert end == 1 and only.center[0] == pytest.approx(0.4 + 0.005)
     assert to_corners(box, north, (False, False)) == []
     long = OrientedBox.from_yaw([2.0, 2.6, 0.5], [4.5, 0.8, 1.0], np.pi)
     assert to_corners(long, north, (True, True)) == []  # longer than the wall
@@ -89,3 +90,21 @@ def test_statistics_learn_corner_rates_that_round_trip():
     draws = [rules.in_corner("kitchen", "counter_top", s) for s in range(400)]
     assert 0.4 < np.mean(draws) < 0.6
     assert draws == [rules.in_corner("kitchen", "counter_top", s) for s in range(400)]
+
+
+def test_a_corner_missed_twice_is_not_tried_again_for_that_object():
+    from pair2scene.assembly.place import CORNER_TRIES, _Context, _variants
+
+    walls = walls_of(RECT)
+    ctx = _Context(FLOOR, {}, Room("kitchen", RECT), (), (), [], None, None, None)
+    ctx.wall, ctx.corner = walls[2], (True, True)
+    box = OrientedBox.from_yaw([2.7, 2.6, 0.9], [0.8, 0.8, 1.8], np.pi)
+    tags = [tag for tag, _ in _variants(box, ctx)]
+    assert tags == [(2, 0), (2, 1), None]  # both corners, the nearer first, then as drawn
+    ctx.corner_misses[(2, 0)] = CORNER_TRIES
+    assert [tag for tag, _ in _variants(box, ctx)] == [(2, 1), None]
+    ctx.corner_misses[(2, 1)] = CORNER_TRIES - 1
+    assert [tag for tag, _ in _variants(box, ctx)] == [(2, 1), None]
+    ctx.corner = None  # not a corner object: the drawn box alone
+    ((tag, same),) = _variants(box, ctx)
+    assert tag is None and same is box

@@ -97,6 +97,10 @@ from pair2scene.scene.walls import Wall, convex_ends, wall_contact, walls_of
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
 collision test, so more would be unbounded work, not a better placement."""
+CORNER_TRIES = 2
+"""A corner where this many of an object's candidates did not pass is not tried again for
+it: what stands around it does not move while its candidates are tried, and in a crowded
+``beyond`` room (320 objects) trying every candidate in both corners doubled the time."""
 SPOT_RETRIES = 8
 """Candidates rejected only for standing off their spot on the support that are moved
 onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
@@ -642,10 +646,13 @@ class Placer:
                         accepted = (tried + index, box)
                         stats.repaired += int(moved)
                         break
-                    for tried_box in _variants(box, context):
+                    for corner, tried_box in _variants(box, context):
                         settled, reason, moved = self._settle_candidate(tried_box, context)
                         if reason is None:
                             break
+                        if corner is not None:
+                            misses = context.corner_misses
+                            misses[corner] = misses.get(corner, 0) + 1
                     if reason is not None:
                         own[reason] = own.get(reason, 0) + 1
                         if reason == "off_spot" and len(strays) < SPOT_RETRIES:
@@ -923,18 +930,23 @@ def _too_large(size: np.ndarray, room: Room) -> bool:
     return bool((np.sort(size[:2]) > extent).any())
 
 
-def _variants(box: OrientedBox, ctx: _Context) -> list[OrientedBox]:
-    """The boxes to try for one drawn candidate, in order: slid into each corner of its
+def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | None, OrientedBox]]:
+    """The boxes to try for one drawn candidate, in order, each with the (wall index, end)
+    of the corner it was slid into (None for the others): slid into each corner of its
     wall, the nearer one first, when the object is to stand in one
-    (:attr:`_Context.corner`); moved onto its pinned spot on its support
+    (:attr:`_Context.corner`; a corner it missed :data:`CORNER_TRIES` times is left out);
+    moved onto its pinned spot on its support
     (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`); then as drawn."""
     if ctx.corner is not None and ctx.wall is not None:
-        return [*to_corners(box, ctx.wall, ctx.corner), box]
+        index = ctx.wall.index
+        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
+                   if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES]  # fmt: skip
+        return [*corners, (None, box)]
     if ctx.spot is not None:
         pinned = ctx.spot.pinned(box)
         if pinned is not None:
-            return [pinned, box]
-    return [box]
+            return [(None, pinned), (None, box)]
+    return [(None, box)]
 
 
 @dataclass
@@ -962,6 +974,9 @@ class _Context:
     corner: tuple[bool, bool] | None = None
     """Whether the start and the end of ``wall`` are convex corners, when the object is
     to stand in one (None: not asked)."""
+    corner_misses: dict = field(default_factory=dict)
+    """(wall index, end) -> how many of this object's candidates slid into that corner
+    did not pass."""
     mount: Wall | None = None
     """The wall a mounted object's candidates hang on (None: not mounted)."""
     below_top: bool = False

@@ -174,27 +174,27 @@ def within_reach(
 
 def to_corners(
     box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M
-) -> list[OrientedBox]:
+) -> list[tuple[int, OrientedBox]]:
     """``box`` (standing against ``wall``) slid along the wall into each of its convex
     corners (``ends``: whether the wall's start and end are such corners,
     :func:`~pair2scene.scene.walls.convex_ends`), ``gap`` short of the other wall, the
-    nearer corner first; none when neither end is a corner or the box is longer than
-    the wall."""
+    nearer corner first, as (0 for the start or 1 for the end, box); none when neither
+    end is a corner or the box is longer than the wall."""
     along = wall.local(box.corners()[:, :2])[:, 0]
     lo, hi = float(along.min()), float(along.max())
     half = wall.length / 2
     if hi - lo > wall.length:
         return []
-    shifts = []  # (distance moved, shift along the wall)
+    shifts = []  # (distance moved, end, shift along the wall)
     if ends[0]:
-        shifts.append((abs(lo + half), -half + gap - lo))
+        shifts.append((abs(lo + half), 0, -half + gap - lo))
     if ends[1]:
-        shifts.append((abs(half - hi), half - gap - hi))
+        shifts.append((abs(half - hi), 1, half - gap - hi))
     out = []
-    for _, shift in sorted(shifts):
+    for _, end, shift in sorted(shifts):
         center = box.center.copy()
         center[:2] += shift * wall.direction
-        out.append(OrientedBox(center, box.size, box.rotation))
+        out.append((end, OrientedBox(center, box.size, box.rotation)))
     return out
 
 
