@@ -224,8 +224,8 @@ class AssemblyConfig:
     corners: bool = True
     """A floor object drawn against a wall also stands in a corner of the room, against
     the neighbouring wall too, as often as the training rooms' did (per room type and
-    category, :meth:`~pair2scene.assembly.walls.WallRules.corner_rate`: a kitchen's
-    counters 0.86 and fridges 0.87, a bedroom's dressers 0.82 in the val rooms): each
+    category, :meth:`~pair2scene.assembly.walls.WallRules.corner_rate`: of those against
+    a wall, a kitchen's counters 0.68 and fridges 0.76, a bedroom's dressers 0.83): each
     candidate is first tried slid along its wall into its convex corners, the nearer
     first (:func:`~pair2scene.assembly.walls.to_corners`), then as drawn. Needs
     ``walls``."""
