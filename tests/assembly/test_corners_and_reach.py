@@ -108,3 +108,15 @@ def test_a_corner_missed_twice_is_not_tried_again_for_that_object():
     ctx.corner = None  # not a corner object: the drawn box alone
     ((tag, same),) = _variants(box, ctx)
     assert tag is None and same is box
+
+
+def test_statistics_written_before_corner_counts_put_nothing_in_a_corner():
+    doc = HierarchyStats.fit([_kitchen(i) for i in range(4)]).to_dict()
+    for walls in (rd["walls"] for rd in doc["room_types"].values()):
+        for row in walls.values():
+            del row["in_corner"]
+    old = HierarchyStats.from_dict(doc)
+    assert old.room_types["kitchen"].against_wall["fridge"] == 4  # the wall counts stay
+    rules = WallRules.from_stats(old)
+    assert rules.corner_rate("kitchen", "fridge") == 0.0
+    assert not any(rules.in_corner("kitchen", "fridge", s) for s in range(50))
