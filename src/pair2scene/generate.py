@@ -283,12 +283,14 @@ def load_placement_model(spec: str | Path | None = None) -> PlacementModel:
     saved one; otherwise the path of a checkpoint folder (names are looked at first:
     ``./random`` is a folder).
     """
-    from pair2scene.assembly.baselines import GaussianPlacement, RandomPlacement
     from pair2scene.model import from_pretrained
 
     text = "default" if spec is None else str(spec)
     if text == "default":
         return from_pretrained(None)
+    # (the baselines load SciPy's linear algebra: only when asked for)
+    from pair2scene.assembly.baselines import GaussianPlacement, RandomPlacement
+
     if text == "random":
         return RandomPlacement()
     if text == "gaussian" or text.startswith("gaussian:"):
