@@ -7,7 +7,7 @@ Run from the repository root, on an idle machine::
 - process start to exit of the README's first command
   (``pair2scene generate --room bedroom --out OUT``), median of ``--runs``, with Python's
   bytecode cache on as it is by default, and again with ``PYTHONDONTWRITEBYTECODE`` as
-  the caller has it;
+  the caller has it; and a process that only imports torch;
 - a warm fit bedroom with its folder written (scene.json, GLB, top view), median over
   ``--scenes`` seeds, in one process with the model loaded;
 - ``beyond`` bedrooms of 20, 40, 80, 160 and 320 objects (3 seeds each, median) and the
@@ -71,6 +71,12 @@ def start_to_exit(tmp: Path, runs: int, bytecode: bool = True) -> float:
         if not bytecode or i > 0:
             times.append(seconds)
     return statistics.median(times)
+
+
+def torch_import(runs: int) -> float:
+    """Median seconds of a process that only imports torch (start to exit): the floor
+    under every command's start on this machine."""
+    return statistics.median(wall([sys.executable, "-c", "import torch"]) for _ in range(runs))
 
 
 def warm(tmp: Path, scenes: int) -> tuple[float, dict[str, float], dict[int, tuple[float, float]]]:
@@ -151,6 +157,7 @@ def main() -> int:
         tmp = Path(d)
         first = start_to_exit(tmp, a.runs)
         compiling = start_to_exit(tmp, a.runs, bytecode=False)
+        torch_alone = torch_import(a.runs)
         fit, split, beyond = warm(tmp, a.scenes)
         one = per_minute(tmp, 1, a.scenes)
         two = per_minute(tmp, 2, a.scenes)
@@ -172,6 +179,8 @@ def main() -> int:
         f"{a.runs}; Python's bytecode cache on, as by default) | {first:.2f} s | <= 3 s |",
         f"| the same with `PYTHONDONTWRITEBYTECODE=1` (this machine's setting: every start "
         f"compiles the package from source) | {compiling:.2f} s |  |",
+        f"| a process that only imports torch, start to exit (median of {a.runs}) | "
+        f"{torch_alone:.2f} s |  |",
         f"| a fit bedroom, folder written, warm (median of {a.scenes}) | {fit:.2f} s | "
         f"<= 0.25 s |",
         *(f"| a beyond bedroom of {n} objects ({beyond[n][1]:.0f} placed; median of 3) | "

@@ -14,6 +14,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -78,24 +79,47 @@ def obb_overlaps(
     axes (parallel edges) are skipped, which is exact too since their planes are among the
     face normals.
     """
-    ca, cb = np.asarray(centers_a, float), np.asarray(centers_b, float)
-    ha = np.maximum(np.asarray(halves_a, float) - margin, 0.0)
-    hb = np.maximum(np.asarray(halves_b, float) - margin, 0.0)
-    ra, rb = np.asarray(rots_a, float), np.asarray(rots_b, float)
-    n, m = len(ca), len(cb)
-    out = np.zeros((n, m), bool)
-    if n == 0 or m == 0:
+    return BoxSet(centers_b, halves_b, rots_b, margin).overlaps(centers_a, halves_a, rots_a)
+
+
+class BoxSet:
+    """M boxes stacked for :func:`obb_overlaps`, kept to test candidate after candidate
+    against them (placement's placed objects and door zones): their shrunk half-sizes and
+    axis-aligned extents are worked out once."""
+
+    def __init__(
+        self, centers: np.ndarray, halves: np.ndarray, rots: np.ndarray, margin: float = 0.0
+    ) -> None:
+        self.margin = margin
+        self.centers = np.asarray(centers, float).reshape(-1, 3)
+        self.halves = np.maximum(np.asarray(halves, float).reshape(-1, 3) - margin, 0.0)
+        self.rots = np.asarray(rots, float).reshape(-1, 3, 3)
+        # Half extent along world axis i: sum_j |R_ij| h_j.
+        self.extents = np.einsum("mij,mj->mi", np.abs(self.rots), self.halves) + AABB_SLACK
+
+    def __len__(self) -> int:
+        return len(self.centers)
+
+    def overlaps(self, centers: np.ndarray, halves: np.ndarray, rots: np.ndarray) -> np.ndarray:
+        """(N, M) whether each of N boxes (shrunk by the same margin) overlaps each kept
+        one."""
+        ca = np.asarray(centers, float).reshape(-1, 3)
+        ha = np.maximum(np.asarray(halves, float).reshape(-1, 3) - self.margin, 0.0)
+        ra = np.asarray(rots, float).reshape(-1, 3, 3)
+        n, m = len(ca), len(self.centers)
+        out = np.zeros((n, m), bool)
+        if n == 0 or m == 0:
+            return out
+        # Axis-aligned bounds first: boxes whose bounds are apart cannot overlap, so the
+        # 15-axis test runs only on the pairs near each other, a number that grows with
+        # the objects, not with their square.
+        ea = np.einsum("nij,nj->ni", np.abs(ra), ha) + AABB_SLACK
+        cb, eb = self.centers, self.extents
+        near = (np.abs(cb[None] - ca[:, None]) <= ea[:, None] + eb[None]).all(-1)
+        i, j = np.nonzero(near)
+        if len(i):
+            out[i, j] = _sat_overlap(ca[i], ha[i], ra[i], cb[j], self.halves[j], self.rots[j])
         return out
-    # Axis-aligned bounds first (half extent along world axis i: sum_j |R_ij| h_j): boxes
-    # whose bounds are apart cannot overlap, so the 15-axis test runs only on the pairs
-    # near each other, a number that grows with the objects, not with their square.
-    ea = np.einsum("nij,nj->ni", np.abs(ra), ha) + AABB_SLACK
-    eb = np.einsum("mij,mj->mi", np.abs(rb), hb) + AABB_SLACK
-    near = (np.abs(cb[None] - ca[:, None]) <= ea[:, None] + eb[None]).all(-1)
-    i, j = np.nonzero(near)
-    if len(i):
-        out[i, j] = _sat_overlap(ca[i], ha[i], ra[i], cb[j], hb[j], rb[j])
-    return out
 
 
 def _sat_overlap(ca, ha, ra, cb, hb, rb) -> np.ndarray:
@@ -138,12 +162,16 @@ def _outline(vertices: np.ndarray) -> np.ndarray:
 
 def _edge_normals(outline: np.ndarray) -> np.ndarray:
     """(K, 2) unit outward normals of a counter-clockwise outline's edges, both ways
-    round (a move may go either way along a separating axis)."""
-    edges = np.concatenate((outline[1:], outline[:1])) - outline
-    normals = np.stack((edges[:, 1], -edges[:, 0]), axis=1)
-    length = np.sqrt(np.add.reduce(normals * normals, axis=1))  # (np.linalg.norm's sums)
-    keep = length > 1e-9
-    normals = normals[keep] / length[keep, None]
+    round (a move may go either way along a separating axis). A point at a time in
+    Python (an outline has a handful), with numpy's arithmetic: the same bits."""
+    pts = outline.tolist()
+    out = []
+    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
+        nx, ny = y1 - y0, -(x1 - x0)
+        length = math.sqrt(nx * nx + ny * ny)
+        if length > 1e-9:
+            out.append((nx / length, ny / length))
+    normals = np.array(out, dtype=float).reshape(-1, 2)
     return np.concatenate([normals, -normals])
 
 
@@ -158,23 +186,45 @@ def clearing_move(
     candidates), a pair is clear once min(mine . d) + t >= max(theirs . d); every pair at
     once needs the largest such t; the direction needing the smallest is taken. Zero for
     no pairs. ``known``: edge normals already at hand, by ``id`` of their outline."""
-    if not pairs:
-        return np.zeros(3)
-    normals: dict[int, np.ndarray] = dict(known or {})  # an outline met twice: once
+    index: dict[int, int] = {}  # outline id -> its place among the distinct outlines
+    outlines: list[np.ndarray] = []
     for pair in pairs:
         for p in pair:
-            if id(p) not in normals:
-                normals[id(p)] = _edge_normals(p)
-    directions = np.concatenate([normals[id(p)] for pair in pairs for p in pair])
-    lows: dict[int, np.ndarray] = {}
-    highs: dict[int, np.ndarray] = {}
-    need = np.full(len(directions), -np.inf)
-    for mine, theirs in pairs:
-        if id(theirs) not in highs:
-            highs[id(theirs)] = (theirs @ directions.T).max(0)
-        if id(mine) not in lows:
-            lows[id(mine)] = (mine @ directions.T).min(0)
-        need = np.maximum(need, highs[id(theirs)] - lows[id(mine)])
+            if id(p) not in index:
+                index[id(p)] = len(outlines)
+                outlines.append(p)
+    normals = [(known or {}).get(id(p)) for p in outlines]
+    normals = [_edge_normals(p) if n is None else n for p, n in zip(outlines, normals)]
+    mine = [index[id(m)] for m, _ in pairs]
+    theirs = [index[id(t)] for _, t in pairs]
+    return _clearing(outlines, normals, mine, theirs, gap)
+
+
+def _clearing(
+    outlines: list[np.ndarray],
+    normals: list[np.ndarray],
+    mine: list[int],
+    theirs: list[int],
+    gap: float,
+) -> np.ndarray:
+    """:func:`clearing_move` of pairs (outlines[mine[k]], outlines[theirs[k]]), each
+    outline given once with its edge normals, in the order the pairs first name them
+    (the order of the candidate directions, so that a tie is broken as it always was)."""
+    if not mine:
+        return np.zeros(3)
+    directions = np.concatenate(normals)
+    # The parts of a piece of furniture mostly share its yaw, so their outlines share
+    # edge directions: each distinct one is kept once, where it first came (a repeated
+    # direction needs the same move, so the first of the smallest is the same vector).
+    distinct = dict.fromkeys(map(tuple, directions.tolist()))
+    if len(distinct) < len(directions):
+        directions = np.array(list(distinct), dtype=float).reshape(-1, 2)
+    sizes = [len(o) for o in outlines]
+    starts = np.cumsum([0, *sizes[:-1]])
+    along = np.concatenate(outlines) @ directions.T  # every point on every direction
+    highs = np.maximum.reduceat(along, starts, axis=0)  # (outlines, directions)
+    lows = np.minimum.reduceat(along, starts, axis=0)
+    need = (highs[theirs] - lows[mine]).max(0)
     best = int(np.argmin(need))
     return np.array([*(directions[best] * (need[best] + gap)), 0.0])
 
@@ -297,18 +347,24 @@ class MeshWorld:
         object from above thus has to leave its footprint: a long move, which placement's
         repair limit turns down, where a shallow sideways overlap costs a short one. The
         move may meet a third object; the caller tests again."""
-        pairs: list[tuple[np.ndarray, np.ndarray]] = []
-        known: dict[int, np.ndarray] = {}
+        index: dict[tuple, int] = {}  # (object id or None, part) -> place in outlines
+        outlines: list[np.ndarray] = []
+        normals: list[np.ndarray] = []
+        mine: list[int] = []
+        theirs: list[int] = []
         for oid in against:
             other = self.shapes.get(oid)
             if other is None:
                 continue
             for i, j in self._deep_pairs(candidate, oid):
-                mine, theirs = candidate.footprint(i), other.footprint(j)
-                known[id(mine)] = candidate.footprint_normals(i)
-                known[id(theirs)] = other.footprint_normals(j)
-                pairs.append((mine, theirs))
-        return clearing_move(pairs, known=known)
+                for key, shape, part, into in ((None, candidate, i, mine), (oid, other, j, theirs)):
+                    k = index.get((key, part))
+                    if k is None:
+                        k = index[(key, part)] = len(outlines)
+                        outlines.append(shape.footprint(part))
+                        normals.append(shape.footprint_normals(part))
+                    into.append(k)
+        return _clearing(outlines, normals, mine, theirs, 2e-3)
 
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:
         """The ids among ``against`` whose parts penetrate the posed candidate by more than

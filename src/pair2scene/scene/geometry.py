@@ -259,6 +259,8 @@ def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> np.ndarray:
     """(N,) bool: 2D points (N, 2) inside polygon (M, 2) by the even-odd rule."""
     pts = np.atleast_2d(np.asarray(points, dtype=float))
     poly = np.asarray(polygon, dtype=float)
+    if len(pts) * len(poly) <= _FEW:
+        return _few_in_polygon(pts.tolist(), poly.tolist())
     x, y = pts[:, 0:1], pts[:, 1:2]
     x0, y0 = poly[:, 0], poly[:, 1]
     x1, y1 = np.concatenate((x0[1:], x0[:1])), np.concatenate((y0[1:], y0[:1]))
@@ -267,6 +269,25 @@ def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> np.ndarray:
         x_at = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
     inside = crosses & (x < x_at)
     return np.count_nonzero(inside, axis=1) % 2 == 1
+
+
+_FEW = 64
+"""Up to this many point-edge tests, :func:`points_in_polygon` loops in Python: a box's
+footprint against a room's floor (5 points, 4-8 edges) is tested for every candidate,
+where numpy's per-call cost is most of the time."""
+
+
+def _few_in_polygon(pts: list, poly: list) -> np.ndarray:
+    """:func:`points_in_polygon`, the same arithmetic, a point and an edge at a time."""
+    edges = [(*poly[i], *poly[(i + 1) % len(poly)]) for i in range(len(poly))]
+    out = []
+    for x, y in pts:
+        inside = False
+        for x0, y0, x1, y1 in edges:
+            if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+                inside = not inside
+        out.append(inside)
+    return np.array(out, dtype=bool)
 
 
 def convex_hull_2d(points: np.ndarray) -> list[tuple[float, float]]:

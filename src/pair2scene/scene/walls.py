@@ -21,7 +21,9 @@ extent overlapping the wall segment by at least half of the face.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -53,23 +55,24 @@ class Wall:
     p0: np.ndarray
     p1: np.ndarray
 
-    @property
+    # Worked out once a wall (placement asks each of a candidate's checks for them).
+    @cached_property
     def length(self) -> float:
         return float(np.linalg.norm(self.p1 - self.p0))
 
-    @property
+    @cached_property
     def direction(self) -> np.ndarray:
         """Unit vector from p0 to p1."""
         d = self.p1 - self.p0
         return d / max(float(np.linalg.norm(d)), 1e-12)
 
-    @property
+    @cached_property
     def normal(self) -> np.ndarray:
         """Unit inward normal (into the room)."""
         d = self.direction
         return np.array([-d[1], d[0]])
 
-    @property
+    @cached_property
     def midpoint(self) -> np.ndarray:
         return (self.p0 + self.p1) / 2
 
@@ -147,6 +150,9 @@ def face_contacts(
     rot = box.rotation[:2, :2]
     half = box.half_size
     center = box.center[:2]
+    # Below this cosine the angle is over max_angle for certain (arccos is monotone and
+    # exact to an ulp): the exact test below runs only on faces near the limit or inside.
+    cos_floor = math.cos(math.radians(max_angle)) - 1e-9 if max_angle < 180 else -math.inf
     out = []
     for face, local_normal in _FACE_NORMALS.items():
         n = rot @ local_normal  # outward normal of the face, world xy
@@ -162,6 +168,8 @@ def face_contacts(
         for wall in walls:
             # the face looks at the wall: its outward normal opposes the inward normal
             cos = float(-n @ wall.normal)
+            if cos < cos_floor:
+                continue
             angle = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
             if angle > max_angle:
                 continue
