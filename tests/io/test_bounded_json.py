@@ -51,7 +51,7 @@ def test_deep_nesting_is_refused_fast(tmp_path):
     start = time.perf_counter()
     with pytest.raises(JsonFileError, match=f"nested deeper than {MAX_JSON_DEPTH} levels") as e:
         read_json_file(path, "hierarchy")
-    assert time.perf_counter() - start < 1.0
+    assert time.perf_counter() - start < 10.0  # bounded work (seconds on a slow, busy CI)
     assert e.value.field == "(json)" and str(e.value).startswith(f"{path}: ")
 
 
@@ -149,7 +149,7 @@ def test_hierarchy_file_limits(tmp_path):
     start = time.perf_counter()
     doc = hierarchy_doc(many)
     assert len(Hierarchy.from_dict(doc)) == MAX_NODES  # the limit itself: fine, and fast
-    assert time.perf_counter() - start < 2.0
+    assert time.perf_counter() - start < 10.0  # bounded work (seconds on a slow, busy CI)
     doc["nodes"].append({"id": "extra", "category": "book"})
     with pytest.raises(HierarchyError, match=f"more than the {MAX_NODES}"):
         Hierarchy.from_dict(doc)
