@@ -35,7 +35,7 @@ from pair2scene.cli import main
 
 ROOT = Path(__file__).resolve().parent
 SCENE = ROOT / "fixtures" / "scenes" / "valid_bedroom.json"
-DEFAULT_CASES = 300
+DEFAULT_CASES = 150
 SLOW_CASES = 2000
 CASE_SECONDS = 60.0
 """A case taking longer than this is a hang."""

@@ -65,6 +65,7 @@ def test_a_bad_scene_folder_is_one_line(own_rooms, tmp_path):
     assert "Traceback" not in proc.stderr
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_curate_train_generate_evaluate_on_your_own_rooms(own_rooms, tmp_path):
     from pair2scene.model.pointmae import PointMAEConfig, PointMAEEncoder
     from pair2scene.model.pretrain import save_encoder

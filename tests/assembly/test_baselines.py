@@ -269,6 +269,7 @@ def test_gaussian_and_random_through_generate_scenes(tmp_path):
             generate_scenes(tmp_path / "bad", room="bedroom", model=bad, progress=False)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_cli_model_and_ablation(tmp_path):
     from clitools import run_cli
 

@@ -134,6 +134,7 @@ def test_two_jobs_give_the_same_bytes(reference, tmp_path):
     assert scene_bytes(out) == scene_bytes(reference)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_sigkill_part_way_then_resume(reference, tmp_path):
     out = tmp_path / "ds"
     proc = subprocess.Popen(cli(*ARGS, "--out", str(out)), stdout=subprocess.DEVNULL,
@@ -161,6 +162,7 @@ def pool_workers(parent: int) -> list[int]:
     return [int(c) for c in children if b"spawn_main" in Path(f"/proc/{c}/cmdline").read_bytes()]
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
 def test_a_killed_local_worker_costs_only_a_retry(tmp_path):
     config = DatasetConfig(mix=MIX, num=16, max_objects=6, formats=("json",), shard_size=2)
@@ -185,6 +187,7 @@ def test_a_killed_local_worker_costs_only_a_retry(tmp_path):
     assert scene_bytes(out) == scene_bytes(whole)  # every scene once, same bytes
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_ray_gives_the_same_bytes(reference, tmp_path):
     ray = pytest.importorskip("ray")
     # a fresh instance of its own, even when a cluster already runs on this machine

@@ -519,6 +519,7 @@ def test_cli_validate_rejects_in_process(case, tmp_path, capsys):
     check_message(lines[0].removeprefix("error: "), path, case.field)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_cli_validate_rejects_in_subprocess(tmp_path):
     cases = [c for c in CASES if c.id in SUBPROCESS_CASES]
     assert len(cases) >= 5

@@ -186,6 +186,7 @@ def inception() -> InceptionFeatures:
     return InceptionFeatures(threads=1)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_inception_fid_tells_another_distribution_from_the_same_one(inception):
     a = topview_batch(random_scenes(10, 16))
     b = topview_batch(random_scenes(11, 16))

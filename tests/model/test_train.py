@@ -189,6 +189,7 @@ def test_cli_reports_a_truncated_checkpoint_in_one_line(trained, pairs_dir, tmp_
     assert "Traceback" not in proc.stderr
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_cli_train_then_score(pairs_dir, tiny_encoder, tmp_path):
     out = tmp_path / "run"
     args = ["--data", str(pairs_dir), "--out", str(out), "--preset", "tiny"]
