@@ -70,6 +70,7 @@ def test_text_scene(p2s):
     assert g.scene.room.type == "bedroom" and "bed" in cats
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_cli_writes_folders_summary_and_resumes(tmp_path):
     out = tmp_path / "out"
     proc = run_cli("generate", "--room", "bedroom", "--num", "2", "--seed", "7", "--out", str(out),
@@ -98,6 +99,7 @@ def test_cli_writes_folders_summary_and_resumes(tmp_path):
     assert (again / "bedroom_0007" / "scene.json").read_bytes() == before  # same seed, same file
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_bad_requests_are_one_line_errors(tmp_path):
     for args, msg in [
         (["--room", "garage"], "unknown room type"),

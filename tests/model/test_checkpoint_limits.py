@@ -439,6 +439,7 @@ def _one_error_line(proc):
     return lines[0]
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_cli_generate_with_bad_checkpoints_exits_2_in_one_line(good, tmp_path):
     out = tmp_path / "out"
     huge = _with_config(good, tmp_path / "huge", _set("layout.mixture.num_components", 10**9))
