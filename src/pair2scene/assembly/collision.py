@@ -175,17 +175,17 @@ def _edge_normals(outline: np.ndarray) -> np.ndarray:
     return np.concatenate([normals, -normals])
 
 
-def clearing_move(
-    pairs: list[tuple[np.ndarray, np.ndarray]],
-    gap: float = 2e-3,
-    known: dict[int, np.ndarray] | None = None,
-) -> np.ndarray:
+CLEAR_GAP = 2e-3
+"""m a clearing move leaves between the outlines it separates."""
+
+
+def clearing_move(pairs: list[tuple[np.ndarray, np.ndarray]], gap: float = CLEAR_GAP) -> np.ndarray:
     """The shortest horizontal move (3,) of the first outline of every pair that leaves
     it ``gap`` clear of the second: pairs of convex counter-clockwise outlines (K, 2).
     Along a direction d (among the outlines' edge normals: the separating axis theorem's
     candidates), a pair is clear once min(mine . d) + t >= max(theirs . d); every pair at
     once needs the largest such t; the direction needing the smallest is taken. Zero for
-    no pairs. ``known``: edge normals already at hand, by ``id`` of their outline."""
+    no pairs."""
     index: dict[int, int] = {}  # outline id -> its place among the distinct outlines
     outlines: list[np.ndarray] = []
     for pair in pairs:
@@ -193,8 +193,7 @@ def clearing_move(
             if id(p) not in index:
                 index[id(p)] = len(outlines)
                 outlines.append(p)
-    normals = [(known or {}).get(id(p)) for p in outlines]
-    normals = [_edge_normals(p) if n is None else n for p, n in zip(outlines, normals)]
+    normals = [_edge_normals(p) for p in outlines]
     mine = [index[id(m)] for m, _ in pairs]
     theirs = [index[id(t)] for _, t in pairs]
     return _clearing(outlines, normals, mine, theirs, gap)
@@ -364,7 +363,7 @@ class MeshWorld:
                         outlines.append(shape.footprint(part))
                         normals.append(shape.footprint_normals(part))
                     into.append(k)
-        return _clearing(outlines, normals, mine, theirs, 2e-3)
+        return _clearing(outlines, normals, mine, theirs, CLEAR_GAP)
 
     def colliding(self, candidate: Shape, against: Iterable[str]) -> list[str]:
         """The ids among ``against`` whose parts penetrate the posed candidate by more than

@@ -33,6 +33,7 @@ of candidates. Same seed, same model, same hierarchy: the same scene.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field, replace
 
@@ -633,6 +634,7 @@ class Placer:
             own: dict[str, int] = {}
             tried = 0
             give_up = cfg.dense_give_up if dense and on_floor_ else None
+            give_up = math.inf if give_up is None else give_up  # (None: never)
             missed = 0  # candidates rejected for want of room
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
@@ -659,7 +661,7 @@ class Placer:
                 timer["model"] += time.perf_counter() - t0
 
                 t0 = time.perf_counter()
-                if give_up is not None and missed >= give_up:
+                if missed >= give_up:
                     boxes = boxes[:0]  # drawn (for the generator), not tried
                 for index, vec in enumerate(boxes):
                     drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
@@ -681,7 +683,7 @@ class Placer:
                         if reason == "off_spot" and len(strays) < SPOT_RETRIES:
                             strays.append(box)
                         missed += reason in NO_ROOM
-                        if give_up is not None and missed >= give_up:
+                        if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
                             break
                         continue
@@ -706,7 +708,7 @@ class Placer:
             if accepted is None:
                 why = ", ".join(f"{k} {v}" for k, v in sorted(own.items(), key=lambda kv: -kv[1]))
                 reason = f"no valid placement among {tried} candidates ({why})"
-                if give_up is not None and missed >= give_up:
+                if missed >= give_up:
                     reason += (
                         f"; gave up after {give_up} for want of room (--assembly.dense-give-up)"
                     )
