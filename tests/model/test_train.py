@@ -248,6 +248,28 @@ def test_sampling_with_functional_anchor_and_floor(trained):
     assert np.isfinite(boxes).all()
 
 
+def test_distribution_in_inference_mode_gives_the_no_grad_numbers(trained):
+    # Placement's forward passes run in torch's inference mode for speed: the same
+    # mixtures as a plain no_grad pass, and its tensors still usable once copied.
+    model = from_pretrained(trained.out_dir)
+    room = OrientedBox.from_yaw([2.5, 2.0, 1.25], [5.0, 4.0, 2.5])
+    desk = OrientedBox.from_yaw([2.0, 2.0, 0.375], [1.2, 0.6, 0.75], 0.3)
+    q = PlacementQuery(
+        "chair", [0.5, 0.5, 0.9], Anchor.floor(room), functional=Anchor("desk", desk)
+    )
+    params, factors = model.distribution([q])
+    assert params.loc.is_inference()
+    fresh = from_pretrained(trained.out_dir)  # no cached tokens
+    with torch.no_grad():
+        plain, plain_factors = type(fresh).distribution.__wrapped__(fresh, [q])
+    assert not plain.loc.is_inference()
+    assert all(torch.equal(a, b) for a, b in zip(params, plain))
+    assert np.array_equal(factors, plain_factors)
+    copy = params.loc.clone()
+    copy += 1.0  # a copy made outside inference mode can change in place
+    assert torch.equal(copy, plain.loc + 1.0)
+
+
 # -- the bundled default ----------------------------------------------------------------
 
 
