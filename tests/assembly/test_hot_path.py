@@ -179,3 +179,47 @@ def test_a_dense_room_gives_up_on_an_object_that_no_longer_fits():
     assert {o.id: o.box.to_vector().tolist() for o in quick.scene.objects} == boxes
     fit = Placer(model, config=AssemblyConfig(candidates=16, batches=4, dense_give_up=5))
     assert not any("gave up" in d.reason for d in fit.place(h, room, seed=0).stats.dropped)
+
+
+def test_a_crowded_support_gives_up_later_and_names_its_option():
+    """Objects on a support have their own limit (dense_give_up_support): on a coffee
+    table carrying more bowls than fit, a bowl stops after that many collisions, with the
+    option named; what was placed before it is as the full search places it; fit scenes
+    still try every candidate."""
+    pytest.importorskip("torch")
+    from dataclasses import replace
+
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.assembly.rooms import make_room
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.model import FLOOR
+
+    with pytest.raises(UserError, match="dense-give-up-support"):
+        AssemblyConfig(dense_give_up_support=0)
+    model = from_pretrained()
+    room = make_room("bedroom", np.random.default_rng(0))
+    room = replace(room, floor_polygon=np.array([[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], float))
+    h = Hierarchy("bedroom")
+    table = h.add("coffee_table", FLOOR).id
+    for _ in range(24):
+        h.add("bowl", table)
+    h.validate()
+
+    def run(give_up, dense=True):
+        cfg = AssemblyConfig(candidates=16, batches=4, dense_give_up_support=give_up)
+        return Placer(model, config=cfg).place(h, room, seed=0, dense=dense)
+
+    quick, full = run(20), run(None)
+    option = "gave up after 20 for want of room (--assembly.dense-give-up-support)"
+    gave_up = {d.id for d in quick.stats.dropped if option in d.reason}
+    assert gave_up and all("among 64 candidates" in d.reason for d in full.stats.dropped)
+    order = [item.dependent.id for item in h.sequence()]
+    first = min(order.index(i) for i in gave_up)
+    before = set(order[:first])
+
+    def placed(result):
+        return {o.id: o.box.to_vector().tolist() for o in result.scene.objects if o.id in before}
+
+    assert table in placed(full) and placed(quick) == placed(full)
+    assert not any("gave up" in d.reason for d in run(5, dense=False).stats.dropped)
