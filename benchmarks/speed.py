@@ -159,6 +159,7 @@ def per_minute(tmp: Path, processes: int, num: int, busy: bool = False) -> float
         procs = []
         for k in range(processes):
             out = tmp / f"pm{processes}{busy}{k}"
+            shutil.rmtree(out, ignore_errors=True)  # (a folder left by a round would resume)
             cmd = [*CLI, "generate", "--room", "bedroom", "--num", str(num),
                    "--seed", str(1000 * k), "--out", str(out)]  # fmt: skip
             procs.append(subprocess.Popen(cmd, stdout=subprocess.DEVNULL,
