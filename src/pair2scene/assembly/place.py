@@ -186,9 +186,10 @@ class AssemblyConfig:
     dense_give_up_support: int | None = 128
     """``dense_give_up`` for objects on a support or a wall: later than a floor object's,
     since a small object finds a gap on a crowded table late (one mug passed after more
-    than 96). Among 3,041 such objects placed in 16 ``beyond`` bedrooms and living rooms
-    (160 and 320 objects asked, seeds 0-3) one passed after 32 or more, none after 96;
-    the ones dropped had each tried all 256 candidates, 37 s of those rooms' 230 s."""
+    than 96). Of the 2,460 such objects placed in 16 ``beyond`` bedrooms and living
+    rooms (160 and 320 objects asked, seeds 0-3) one passed after 32 or more, none after
+    96; in the eight of 320 objects, those dropped (most after all 256 candidates) took
+    37 s of 230 s."""
     walls: bool = True
     """Stand floor objects against a wall as often as the training rooms do (per room
     type and category, :class:`~pair2scene.assembly.walls.WallRules`), drawing them in
