@@ -382,9 +382,9 @@ class LayoutModel:
         model-frame factors (B, 3) that map its samples back (see :meth:`to_world`).
 
         Runs in torch's inference mode (the same numbers as ``no_grad``, without its
-        per-operation bookkeeping: ~10 % of a fit scene), so the tensors it returns are
-        inference tensors: read them, or copy them (``clone()`` outside inference mode)
-        before changing them in place."""
+        per-operation bookkeeping: a few per cent of a fit scene), so the tensors it
+        returns are inference tensors: read them, or copy them (``clone()`` outside
+        inference mode) before changing them in place."""
         batch, factors = self._query_batch(queries)
         params, _ = self.predictor(batch)
         return params, factors
