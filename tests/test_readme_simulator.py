@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from tests.clitools import ROOT, run_cli
 
 SECTION = "## Use the scene in a simulator"
@@ -19,6 +20,7 @@ def _blocks(kind: str) -> list[str]:
     return re.findall(rf"```{kind}\n(.*?)```", part, re.S)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_the_mujoco_example_loads_and_steps_a_generated_room(tmp_path: Path):
     (example,) = [b for b in _blocks("python") if "import mujoco" in b]
     assert len(example.strip().splitlines()) <= 11  # "a ten-line MuJoCo example"

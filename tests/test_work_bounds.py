@@ -129,6 +129,7 @@ def kill_mid_write(out: Path, sig: int) -> tuple[subprocess.CompletedProcess, li
     return subprocess.CompletedProcess(cmd, proc.returncode, "", err.decode()), seen
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 def test_a_killed_run_leaves_debris_the_rerun_removes(tmp_path):
     out = tmp_path / "out"
     proc, seen = kill_mid_write(out, signal.SIGKILL)

@@ -163,6 +163,7 @@ def pool_workers(parent: int) -> list[int]:
 
 
 @pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run)
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="needs Linux /proc")
 def test_a_killed_local_worker_costs_only_a_retry(tmp_path):
     config = DatasetConfig(mix=MIX, num=16, max_objects=6, formats=("json",), shard_size=2)
