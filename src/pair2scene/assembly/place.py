@@ -99,7 +99,8 @@ MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
 collision test, so more would be unbounded work, not a better placement."""
 NO_ROOM = frozenset({"collision", "door", "blocks_path", "outside"})
-"""Rejections for want of room, which :attr:`AssemblyConfig.dense_give_up` counts."""
+"""Rejections for want of room, which :attr:`AssemblyConfig.dense_give_up` (and
+``dense_give_up_support``) counts."""
 CORNER_TRIES = 2
 """A corner where this many of an object's candidates did not pass is not tried again for
 it: what stands around it does not move while its candidates are tried, and in a crowded
@@ -107,6 +108,11 @@ it: what stands around it does not move while its candidates are tried, and in a
 SPOT_RETRIES = 8
 """Candidates rejected only for standing off their spot on the support that are moved
 onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
+
+
+def _flag(name: str) -> str:
+    """The command-line option of an :class:`AssemblyConfig` field."""
+    return "--assembly." + name.replace("_", "-")
 
 
 @dataclass(frozen=True)
@@ -278,18 +284,14 @@ class AssemblyConfig:
         loads = {"max_load": self.max_load, "dense_max_load": self.dense_max_load}
         if not np.isfinite(self.top_free_share) or self.top_free_share > 1:
             raise UserError(f"--assembly.top-free-share must be <= 1, got {self.top_free_share}")
-
-        def flag(name: str) -> str:
-            return "--assembly." + name.replace("_", "-")
-
         check_ranges("--assembly.", positive, non_negative)
         for name, value in loads.items():
             if value is not None and not (np.isfinite(value) and 0 < value <= 1):
-                raise UserError(f"{flag(name)} must be a share in (0, 1] or none, got {value}")
+                raise UserError(f"{_flag(name)} must be a share in (0, 1] or none, got {value}")
         for name in ("dense_give_up", "dense_give_up_support"):
             value = getattr(self, name)
             if value is not None and value < 1:
-                raise UserError(f"{flag(name)} must be >= 1 or none, got {value}")
+                raise UserError(f"{_flag(name)} must be >= 1 or none, got {value}")
         if self.candidates * self.batches > MAX_CANDIDATES:
             raise UserError(
                 f"--assembly.candidates x --assembly.batches must be at most {MAX_CANDIDATES}"
@@ -717,8 +719,7 @@ class Placer:
                 why = ", ".join(f"{k} {v}" for k, v in sorted(own.items(), key=lambda kv: -kv[1]))
                 reason = f"no valid placement among {tried} candidates ({why})"
                 if missed >= give_up:
-                    option = "--assembly." + limit.replace("_", "-")
-                    reason += f"; gave up after {give_up} for want of room ({option})"
+                    reason += f"; gave up after {give_up} for want of room ({_flag(limit)})"
                 if on_floor_ and _too_large(asset.size, room):
                     reason = (f"too large for the room ({asset.size[0]:.2f} x "
                               f"{asset.size[1]:.2f} m)")  # fmt: skip
