@@ -200,3 +200,29 @@ def test_garbage_gets_one_repair_round_then_a_clear_error(llm):
     server.replies += [Reply(body=completion("no json here")), ok(edited(_on_a_table))]
     with pytest.raises(HierarchyError, match="after one repair round: .*'table_lamp_0' rests on"):
         hierarchy_from_llm(client, TEXT + ", and a lamp")
+
+
+def test_an_edge_over_its_floor_anchor_hangs_over_it(llm):
+    """ "over": true on a wall object's edge is the offline parser's "above the sofa"; on
+    an edge that cannot hang over anything it is refused, with one repair round."""
+
+    def over(reply, dependent="painting_0"):
+        for tree in reply["functional_trees"]:
+            for e in tree["edges"]:
+                if e["dependent"] == dependent:
+                    e["over"] = True
+
+    reply = edited(over)
+    validate_json(reply, reply_schema())
+    assert hierarchy_from_reply(reply).over == {"painting_0"}
+    assert hierarchy_from_reply(WALLS).over == set()
+    bad = edited(lambda r: over(r, "coffee_table_0"))  # it stands on the floor
+    with pytest.raises(HierarchyError, match="a node on a wall"):
+        hierarchy_from_reply(bad)
+    server, client = llm
+    server.replies += [ok(bad), ok(reply)]
+    h = hierarchy_from_llm(client, TEXT)
+    assert h.over == {"painting_0"} and "repair" in h.notes[-1]
+    not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update(over="yes"))
+    with pytest.raises(Exception, match="over"):
+        validate_json(not_bool, reply_schema())

@@ -11,6 +11,7 @@ from pair2scene.assembly.mounting import (
     dress_window,
     fitted_dressing,
     hang,
+    hang_over,
     mount,
     mount_blocked,
     mount_order,
@@ -172,8 +173,65 @@ def test_the_living_room_example_dresses_every_window():
         (painting,) = [o for o in scene.objects if o.category == "painting"]
         assert painting.functional_anchor == "sofa_0"
         contact = wall_contact(by["sofa_0"].box, walls)
-        if contact is not None:  # the sofa's back to a wall: the painting hangs on it
+        if contact is not None:  # the sofa against a wall: the painting hangs over it there
+            wall = walls[contact.wall]
             assert wall_index(painting.support) == contact.wall
+            assert _within_along(painting.box, by["sofa_0"].box, wall), seed
+            assert painting.box.bottom > by["sofa_0"].box.top, seed
+
+
+def _within_along(box: OrientedBox, anchor: OrientedBox, wall, tol: float = 1e-6) -> bool:
+    """Whether ``box`` spans no more of ``wall`` than ``anchor`` does (or, wider than it,
+    is centred on it)."""
+    mine = wall.local(box.corners()[:, :2])[:, 0]
+    theirs = wall.local(anchor.corners()[:, :2])[:, 0]
+    if np.ptp(mine) > np.ptp(theirs):
+        return abs(mine.mean() - theirs.mean()) < tol
+    return mine.min() >= theirs.min() - tol and mine.max() <= theirs.max() + tol
+
+
+@pytest.mark.parametrize("drawn", [-1.9, -0.4, 0.0, 0.3, 1.9])
+def test_hang_over_moves_a_candidate_along_the_wall_over_its_anchor(drawn):
+    wall = WALLS[2]  # y = 5, x from 4 to 0: along runs from +2 (x = 0) to -2 (x = 4)
+    sofa = OrientedBox.from_yaw([1.5, 4.55, 0.4], [2.0, 0.9, 0.8], np.pi)  # back to it
+    box = hang(wall, drawn, 1.6, np.array([0.8, 0.03, 0.6]))
+    over = hang_over(box, wall, sofa)
+    assert _within_along(over, sofa, wall)
+    assert over.center[2] == pytest.approx(1.6)  # the drawn height
+    assert _gap_to(over, wall) == pytest.approx(MOUNT_GAP_M)
+    at, lo, hi = wall.local(box.center[:2])[0], -0.5 + 0.4, 1.5 - 0.4
+    assert wall.local(over.center[:2])[0] == pytest.approx(np.clip(at, lo, hi))  # nearest
+    wide = hang_over(hang(wall, drawn, 1.6, np.array([2.6, 0.03, 0.6])), wall, sofa)
+    assert wall.local(wide.center[:2])[0] == pytest.approx(0.5)  # centred on the sofa
+    corner = OrientedBox.from_yaw([3.4, 4.55, 0.4], [1.2, 0.9, 0.8], np.pi)  # at the end
+    end = hang_over(hang(wall, drawn, 1.6, np.array([2.6, 0.03, 0.6])), wall, corner)
+    assert wall.local(end.corners()[:, :2])[:, 0].min() >= -2.0 - 1e-9  # still on the wall
+
+
+def test_text_over_hangs_over_the_anchor_and_the_statistics_do_not_ask_it():
+    """ "A painting above the sofa" hangs over the sofa, on the wall behind it, whatever
+    the model draws along that wall; a hierarchy without ``over`` (every room the
+    statistics draw) hangs it where the model puts it, as the training pairs were."""
+    from pair2scene.generate import Pair2Scene
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.walls import wall_contact
+
+    placer = Pair2Scene.from_pretrained().placer
+    anywhere = 0
+    for seed in range(6):
+        for over in (True, False):
+            h = Hierarchy("living_room")
+            sofa = h.add("sofa", "floor")
+            painting = h.add("painting", "wall", sofa.id)
+            if over:
+                h.over.add(painting.id)
+            scene = placer.place(h.validate(), ROOM, seed=seed).scene
+            by = {o.id: o for o in scene.objects}
+            wall = WALLS[wall_contact(by[sofa.id].box, WALLS).wall]
+            within = _within_along(by[painting.id].box, by[sofa.id].box, wall)
+            assert within or not over, seed
+            anywhere += not within
+    assert anywhere > 0  # the rule, not the model, put them there
 
 
 def test_a_floor_object_with_a_painting_over_it_stands_against_the_wall_it_hangs_on():

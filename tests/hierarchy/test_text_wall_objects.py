@@ -251,20 +251,20 @@ CASES = [
         "a living room with a sofa, a painting above the sofa and curtains on the windows",
         {"painting", "curtains"},
         [("painting", WALL, "sofa"), ("curtains", WALL, None), ("curtains", WALL, None)],
-        ["on a wall: painting_0 by sofa_0", "on walls: curtains_0, curtains_1, at a window each"],
+        ["on a wall: painting_0 over sofa_0", "on walls: curtains_0, curtains_1, at a window each"],
     ),
     (
         "a bedroom with a bed and a painting above the bed",
         {"painting"},
         [("painting", WALL, "bed")],
-        ["on a wall: painting_0 by bed_0"],
+        ["on a wall: painting_0 over bed_0"],
     ),
     ("a mirror on the wall", {"mirror"}, [("mirror", WALL, None)], ["on a wall: mirror_0"]),
     (
         "a mirror above the dresser",
         {"mirror"},
         [("mirror", WALL, "dresser")],
-        ["on a wall: mirror_0 by dresser_0"],
+        ["on a wall: mirror_0 over dresser_0"],
     ),
     (
         "a TV on the wall opposite the sofa",
@@ -322,6 +322,31 @@ def test_the_living_room_example_exactly():
         ("curtains_1", None),
     ]
     assert h.category_counts()["painting"] == 1 and h.category_counts()["curtains"] == 2
+    assert h.over == {"painting_0"}  # "above": over the sofa, not anywhere by it
+
+
+@pytest.mark.parametrize(
+    "text, over",
+    [
+        ("a living room with a sofa, a painting above the sofa", {"painting"}),
+        ("a bedroom with a bed and a painting over the bed", {"painting"}),
+        ("a mirror above the dresser", {"mirror"}),
+        ("a TV above the dresser, wall mounted", {"television"}),
+        ("a bedroom with two nightstands and a painting above each nightstand", {"painting"}),
+        ("a painting next to the sofa", set()),  # by it: as the training pairs stood
+        ("a TV on the wall opposite the sofa", set()),
+        ("a painting above the sofa. The painting next to the sofa.", set()),  # latest wins
+        ("a lamp above the desk", set()),  # on the desk: nothing hangs
+        ("a painting above the TV on the wall", set()),  # its anchor hangs, not on the floor
+    ],
+)
+def test_above_and_over_hang_a_wall_object_over_its_anchor(text, over):
+    h = offline(text)
+    cat = {n.id: n.category for n in h.nodes}
+    assert {cat[i] for i in h.over} == over
+    for node_id in h.over:
+        assert h.support[node_id] == WALL and h.support[h.functional[node_id]] == FLOOR
+    assert Hierarchy.from_dict(h.to_dict()).over == h.over  # the file keeps it
 
 
 def test_wall_objects_leave_the_floor_completion_alone():
@@ -382,4 +407,7 @@ def test_cli_json_shows_the_wall():
     (item,) = [s for s in doc["sequence"] if s["dependent"]["category"] == "mirror"]
     assert item["support"] == {"id": "wall", "category": "wall"}
     assert item["functional_anchor"]["category"] == "dresser"
-    assert "on a wall: mirror_0 by dresser_0" in doc["notes"]
+    assert "on a wall: mirror_0 over dresser_0" in doc["notes"]
+    (tree,) = [t for t in doc["functional_trees"] if t["support_anchor"]["id"] == "wall"]
+    (edge,) = [e for e in tree["edges"] if e["dependent"]["category"] == "mirror"]
+    assert edge["over"] is True

@@ -62,3 +62,33 @@ def test_only_wall_objects_may_take_an_anchor_on_another_support():
     h.add("painting", "wall", book.id)  # a painting hangs over floor objects only
     with pytest.raises(HierarchyError, match="must share the support"):
         h.validate()
+
+
+def test_a_wall_object_over_its_anchor_round_trips_and_is_checked():
+    h = bedroom()
+    h.over.add("painting_0")
+    doc = h.validate().to_dict()
+    (tree,) = [t for t in doc["functional_trees"] if t["support_anchor"]["id"] == "wall"]
+    over = {e["dependent"]["id"]: e.get("over", False) for e in tree["edges"]}
+    assert over == {"painting_0": True, "curtains_0": False}
+    assert Hierarchy.from_dict(doc).over == {"painting_0"}
+    assert Hierarchy.from_dict(bedroom().to_dict()).over == set()  # absent: not over
+    (edge,) = [e for e in tree["edges"] if "over" in e]
+    edge["over"] = "yes"
+    with pytest.raises(HierarchyError, match="malformed hierarchy.*'over'"):
+        Hierarchy.from_dict(doc)
+    for node_id, message in [
+        ("curtains_0", "with a functional anchor"),  # no anchor
+        ("side_table_0", "a node on a wall"),  # on the floor
+        ("nobody", "a node on a wall"),
+    ]:
+        h = bedroom()
+        h.over.add(node_id)
+        with pytest.raises(HierarchyError, match=message):
+            h.validate()
+    h = Hierarchy("bedroom")  # over a wall object: nothing to hang over on the floor
+    painting = h.add("painting", "wall")
+    h.add("wall_lamp", "wall", painting.id)
+    h.over.add("wall_lamp_0")
+    with pytest.raises(HierarchyError, match="must stand on the floor"):
+        h.validate()

@@ -6,11 +6,13 @@ its hierarchy; placement tries the room's walls in :func:`mount_order` and draws
 candidate from the layout model in that wall's frame (its support anchor, as the
 training tuples have it). :func:`mount` then hangs the drawn box on the wall: turned to
 face the room, its back :data:`MOUNT_GAP_M` off the wall, along the wall and in height
-where the model put it, kept within the wall and under the ceiling. :func:`mount_blocked`
-rejects what would cover a door or a window (curtains and blinds excepted), hang behind
-a piece of furniture standing against the wall and reaching above its bottom (a painting
-behind a wardrobe), or stand off the wall's ends; collisions with furniture and the other
-mounted objects are tested like any candidate's.
+where the model put it, kept within the wall and under the ceiling; one the hierarchy
+hangs over its anchor (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`) goes only on
+the wall behind that anchor, moved along it to be over it (:func:`hang_over`).
+:func:`mount_blocked` rejects what would cover a door or a window (curtains and blinds
+excepted), hang behind a piece of furniture standing against the wall and reaching above
+its bottom (a painting behind a wardrobe), or stand off the wall's ends; collisions with
+furniture and the other mounted objects are tested like any candidate's.
 
 Curtains and blinds (:data:`WINDOW_DRESSINGS`) hang at a window: the model knows no
 windows, so they are placed by rule, centred on a window nobody dressed yet, hanging from
@@ -108,6 +110,22 @@ def mount(box: OrientedBox, wall: Wall, room_height: float, ceiling_margin: floa
     along = float(np.clip(wall.local(box.center[:2])[0], -half_len, half_len))
     z = float(np.clip(box.center[2], z_lo, z_hi))
     return hang(wall, along, z, size)
+
+
+def hang_over(box: OrientedBox, wall: Wall, anchor: OrientedBox) -> OrientedBox:
+    """``box`` (hung on ``wall`` by :func:`mount`) moved along the wall to hang over
+    ``anchor``, the floor object standing against it ("a painting above the sofa"): its
+    centre as close to where it was drawn as keeps it within the anchor's extent along
+    the wall (centred on the anchor when it is wider), and within the wall; its height as
+    drawn."""
+    size = np.asarray(box.size, float)
+    along = wall.local(anchor.corners()[:, :2])[:, 0]
+    lo, hi = float(along.min()), float(along.max())
+    slack = max((hi - lo) / 2 - size[0] / 2, 0.0)
+    mid = (lo + hi) / 2
+    at = float(np.clip(wall.local(box.center[:2])[0], mid - slack, mid + slack))
+    half_len = max(wall.length / 2 - size[0] / 2, 0.0)
+    return hang(wall, float(np.clip(at, -half_len, half_len)), float(box.center[2]), size)
 
 
 def dress_window(

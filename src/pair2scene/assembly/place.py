@@ -53,6 +53,7 @@ from pair2scene.assembly.mounting import (
     HANGS_OVER,
     dress_window,
     fitted_dressing,
+    hang_over,
     mount,
     mount_blocked,
     mount_order,
@@ -603,6 +604,11 @@ class Placer:
                 if item.support == FLOOR and cfg.anchors and self.anchors is not None and framed:
                     check = self.anchors.check(node.category, fp.asset.category, fp.box,
                                                asset_seed(node.id, seed))  # fmt: skip
+            over = None  # the wall behind the floor object it hangs over, when it does
+            if mounted and node.id in hierarchy.over and functional is not None:
+                behind = wall_contact(functional.box, walls_of(room.floor_polygon))
+                if behind is not None and wall_index(item.support) in (None, behind.wall):
+                    over = behind.wall
             region = None
             if item.support == FLOOR and cfg.reject and cfg.confine:
                 region = floor_region(room, asset.size, cfg.floor_repair_m + cfg.wall_snap_m)
@@ -614,7 +620,7 @@ class Placer:
                                              node.id in backed) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
-                                              dressed)  # fmt: skip
+                                              dressed, over)  # fmt: skip
                 if not queries:
                     why = ("no window left for it" if node.category in WINDOW_DRESSINGS
                            else "no wall of the room")  # fmt: skip
@@ -629,6 +635,8 @@ class Placer:
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
+            if over is not None:
+                context.over = functional.box
             ends = None  # the room's convex corners, when this object stands in one
             if (
                 on_floor_
@@ -786,10 +794,12 @@ class Placer:
 
     def _mount_queries(
         self, query, node, support: str, room: Room, placed: dict[str, _Placed], seed: int,
-        dressed: set[int],
+        dressed: set[int], over: int | None = None,
     ) -> list:  # fmt: skip
         """(``query`` on a wall, the wall) once per wall to try (:func:`mount_order`); for
-        curtains and blinds (None, a :class:`_Dressing`) once per window not yet dressed."""
+        curtains and blinds (None, a :class:`_Dressing`) once per window not yet dressed.
+        ``over``: the index of the only wall to try (the one behind the floor object it
+        hangs over)."""
         from pair2scene.model.api import Anchor
 
         walls = walls_of(room.floor_polygon)
@@ -813,7 +823,8 @@ class Placer:
                         out.append((None, _Dressing(wall, i, cut)))
             return out
         anchor = None if query.functional is None else query.functional.box
-        order = mount_order(walls, rng, anchor, wall_index(support))
+        only = wall_index(support) if over is None else over
+        order = mount_order(walls, rng, anchor, only)
         return [(replace(query, support=Anchor.wall(w.frame(room.height))), w) for w in order]
 
     def _settle_candidate(
@@ -866,6 +877,8 @@ class Placer:
         hung = box if dressing else mount(box, ctx.mount, ctx.room.height, cfg.ceiling_margin_m)
         if hung is None:
             return None, "too_large", False
+        if ctx.over is not None and not dressing:
+            hung = hang_over(hung, ctx.mount, ctx.over)
         if not cfg.reject:
             return hung, None, False
         floor = _floor_boxes(ctx.placed, ctx.ids)
@@ -1007,6 +1020,8 @@ class _Context:
     """Keeps the floor navigable (None: not asked)."""
     anchor: AnchorCheck | None = None
     """Keeps the object at its functional anchor (None: no rule)."""
+    over: OrientedBox | None = None
+    """The floor object a mounted one hangs over (:func:`hang_over`; None: where drawn)."""
     spot: SpotCheck | None = None
     """Keeps the object at its spot on its support (None: no rule)."""
     wall: Wall | None = None

@@ -14,7 +14,8 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
    puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
    floor-standing object under it, is its functional anchor ("a painting above the
-   sofa"); without one it has none ("a mirror on the wall"). Curtains and blinds never
+   sofa": above or over it, it hangs over that floor object, :attr:`~.tree.Hierarchy.over`);
+   without one it has none ("a mirror on the wall"). Curtains and blinds never
    have one: placement hangs each at a window and gives the room a window for each. A
    floor object the text places relative to a wall object ("a sofa facing the TV on the
    wall") stands on the floor and becomes the wall object's anchor instead. A note names
@@ -158,7 +159,7 @@ def hierarchy_from_spec(
         nodes: list[Node] = []
         wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS)
         if wall:
-            nodes = _hang(h, m, func_rel, instances)
+            nodes = _hang(h, m, func_rel, instances, over=m.ref in spec.over)
             sup_rel = None
         elif sup_rel is not None:
             anchors = instances[sup_rel.anchor]
@@ -251,10 +252,13 @@ def _root_ancestor(h: Hierarchy, node: Node) -> Node:
     return node
 
 
-def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) -> list[Node]:
+def _hang(
+    h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]], over: bool = False
+) -> list[Node]:
     """``m``'s nodes on ``wall``, each placed relative to the text's anchor (or the object
-    on the floor or a wall under it), curtains and blinds relative to nothing; a note
-    says what hangs where."""
+    on the floor or a wall under it), curtains and blinds relative to nothing; ``over``
+    (the text put it above the anchor): hung over an anchor standing on the floor
+    (:attr:`Hierarchy.over`). A note says what hangs where."""
     anchors = [] if func_rel is None else instances[func_rel.anchor]
     window = m.category in WINDOW_DRESSINGS
     if window and anchors:
@@ -267,6 +271,8 @@ def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) 
     for i in range(n):
         a = _root_ancestor(h, anchors[i % len(anchors)]) if anchors else None
         nodes.append(h.add(m.category, WALL, None if a is None else a.id))
+        if over and a is not None and h.support[a.id] == FLOOR:
+            h.over.add(nodes[-1].id)
     if not nodes:
         return nodes
     ids = ", ".join(node.id for node in nodes)
@@ -275,7 +281,8 @@ def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) 
         h.notes.append(f"{where}: {ids}, at a window each")
     elif anchors:
         by = sorted({h.functional[node.id] for node in nodes})
-        h.notes.append(f"{where}: {ids} by {', '.join(by)}")
+        how = "over" if all(node.id in h.over for node in nodes) else "by"
+        h.notes.append(f"{where}: {ids} {how} {', '.join(by)}")
     else:
         h.notes.append(f"{where}: {ids}")
     return nodes

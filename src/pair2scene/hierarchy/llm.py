@@ -6,7 +6,8 @@ support tree as edges from ``"Floor"`` and the functional trees, each with its
 mirrors, curtains, blinds, wall lamps, mounted TVs) rest on ``"Wall"`` (placement picks
 which wall; ``wall:<i>`` names wall i, as in hierarchy files) and may take a Floor object
 as their functional anchor (a painting above the bed); curtains and blinds take none
-(placement hangs each at a window). The reply is checked twice: against a JSON schema (by
+(placement hangs each at a window); an edge with ``"over": true`` hangs it over that
+anchor (:attr:`Hierarchy.over`). The reply is checked twice: against a JSON schema (by
 :class:`pair2scene.llm.LLMClient`) and as a hierarchy (:meth:`Hierarchy.validate`: known
 categories, grounded, acyclic, functional anchors on the same support, a wall object's on
 the floor). A reply that fails either gets one repair round, the problem quoted back to
@@ -47,7 +48,14 @@ def reply_schema() -> dict:
     }
     func_edge = {
         "type": "object",
-        "properties": {"anchor": ident, "dependent": ident},
+        "properties": {
+            "anchor": ident,
+            "dependent": ident,
+            "over": {
+                "type": "boolean",
+                "description": "a wall object hung right above its Floor anchor",
+            },
+        },
         "required": ["anchor", "dependent"],
         "additionalProperties": False,
     }
@@ -104,7 +112,7 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
             {
                 "support_anchor": LLM_WALL,
                 "edges": [
-                    {"anchor": "desk_0", "dependent": "painting_0"},
+                    {"anchor": "desk_0", "dependent": "painting_0", "over": True},
                     {"anchor": LLM_WALL, "dependent": "curtains_0"},
                 ],
             },
@@ -131,7 +139,9 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
         "at a desk, a nightstand beside a bed); both must rest on that support_anchor, "
         f"except on the '{LLM_WALL}': a wall object's anchor is an object on the Floor (a "
         "painting above the bed, a mirror above the dresser, a TV on the wall opposite the "
-        "sofa, a wall lamp beside the bed) or on the Wall. Curtains and blinds hang at "
+        'sofa, a wall lamp beside the bed) or on the Wall; "over": true on the edge of one '
+        "hung right above its Floor anchor (a painting above the bed). Curtains and blinds "
+        "hang at "
         "windows, one object per window (curtains on two windows: two curtains objects), "
         "placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
@@ -194,6 +204,8 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
                     f"{LLM_FLOOR} or hang on that wall, but {anchor!r} rests on {below!r}"
                 )
             h.functional[dep] = anchor
+            if e.get("over", False):
+                h.over.add(dep)  # (validate: on a wall, over an object on the Floor)
     return h.validate()
 
 

@@ -120,6 +120,10 @@ class TextSpec:
     none of them."""
     notes: tuple[str, ...] = ()
     """What was done to the text before it was read (cut at :data:`MAX_TEXT_CHARS`)."""
+    over: tuple[str, ...] = ()
+    """The :attr:`Mention.ref` s the text puts above their functional anchor ("a painting
+    above the sofa", "a mirror over the dresser"): one that hangs on a wall hangs over it,
+    within its width (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`)."""
 
 
 # -- tables ---------------------------------------------------------------------------------
@@ -308,12 +312,16 @@ class _Cue:
     """Relates only when the anchor is one of :data:`CONTAINERS` ("in")."""
     pair: bool = False
     """One item per side: a single item becomes two ("a nightstand on either side of")."""
+    over: bool = False
+    """The items are above the anchor ("a painting above the sofa"): one hung on a wall
+    hangs over it (:attr:`TextSpec.over`)."""
 
 
 WITH, NEGATE = "with", "negate"
 _S, _F = _Cue(SUPPORT), _Cue(FUNCTIONAL)
 _IN = _Cue(SUPPORT, container=True)
 _PAIR = _Cue(FUNCTIONAL, pair=True)
+_OVER = _Cue(FUNCTIONAL, over=True)
 _W, _WS = _Cue(WITH, head_first=True), _Cue(SUPPORT, head_first=True)
 _FILL, _WF = _Cue(SUPPORT, head_first=True, fill=True), _Cue(FUNCTIONAL, head_first=True)
 
@@ -325,7 +333,7 @@ RELATION_CUES: dict[str, _Cue] = {
     "around": _F, "at": _F, "next to": _F, "beside": _F, "besides": _F, "by": _F, "near": _F,
     "close to": _F, "facing": _F, "opposite": _F, "opposite to": _F, "opposite of": _F,
     "across from": _F, "in front of": _F, "behind": _F, "under": _F, "underneath": _F,
-    "beneath": _F, "below": _F, "above": _F, "over": _F, "alongside": _F, "along": _F,
+    "beneath": _F, "below": _F, "above": _OVER, "over": _OVER, "alongside": _F, "along": _F,
     "against": _F, "between": _F, "flanking": _F, "surrounding": _F, "adjacent to": _F,
     "to the left of": _F, "to the right of": _F, "on the left of": _F, "on the right of": _F,
     "left of": _F, "right of": _F, "at the foot of": _F, "at the end of": _F,
@@ -747,6 +755,8 @@ class _Parser:
     """The latest phrase naming each of :data:`_FEATURES` ("the windows")."""
     cued: tuple[str | None, list[str]] = (None, [])
     """The anchor and dependents of the latest cue that related objects."""
+    over: set[str] = field(default_factory=set)
+    """Dependents whose functional relation came from an "above" / "over" cue."""
 
     def run(self, elements: list[_Element]) -> None:
         """Reads the elements in order; a dependent-first cue waits for its anchor."""
@@ -774,7 +784,10 @@ class _Parser:
         unparsed = tuple(dict.fromkeys(self.unparsed))
         named = {m.category for m in mentions}
         excluded = tuple(c for c in dict.fromkeys(self.excluded) if c not in named)
-        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall, excluded)
+        functional = {d for k, d, _ in self.relations if k == FUNCTIONAL}
+        over = tuple(ref for ref in self.objects if ref in self.over and ref in functional)
+        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall, excluded,
+                        over=over)  # fmt: skip
 
     # -- elements
 
@@ -880,7 +893,10 @@ class _Parser:
             self._implicit(anchor)
         if not cue.container or self.objects[anchor].category in CONTAINERS:
             for dep in run:
-                if self._relate(cue.kind, dep, anchor, each, explicit=True) and cue.pair:
+                related = self._relate(cue.kind, dep, anchor, each, explicit=True)
+                if related and cue.kind == FUNCTIONAL:  # the latest such cue says where
+                    (self.over.add if cue.over else self.over.discard)(dep)
+                if related and cue.pair:
                     self.objects[dep].count = max(self.objects[dep].count, 2)
         self.cued = (anchor, run)
         self.placed.add(anchor)

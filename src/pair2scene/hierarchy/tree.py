@@ -11,7 +11,8 @@ it is placed relative to (``functional``: an object on the same support, optiona
 - A **functional tree** exists for every support node (the floor included) that has
   dependents. It is rooted at that support; a dependent with a functional anchor hangs
   under its anchor, one without hangs under the root. Every node of it rests on its
-  root.
+  root. A wall-mounted dependent whose edge says ``"over": true`` hangs over its anchor,
+  a floor object, within its width (:attr:`Hierarchy.over`: "a painting above the sofa").
 - The **sequence** (:meth:`Hierarchy.sequence`) orders the relation tuples for
   placement: breadth-first over the support tree, and at each support a depth-first walk
   of its functional tree. Every anchor (support or functional) comes before its
@@ -104,6 +105,11 @@ class Hierarchy:
     """node id -> the id of its functional anchor (only nodes that have one)."""
     notes: list[str] = field(default_factory=list)
     """What a builder wants the user to know (unparsed words, completions, caps)."""
+    over: set[str] = field(default_factory=set)
+    """Wall-mounted nodes that hang over their functional anchor, a floor object, within
+    its width ("a painting above the sofa"); placement hangs them on the wall behind it.
+    Without this, a wall object relates to its anchor as the training rooms' pairs did
+    (above it or across the room)."""
 
     # -- building -------------------------------------------------------------------------
 
@@ -218,6 +224,17 @@ class Hierarchy:
                 chain[at] = None
                 at = self.functional[at]
             acyclic.update(chain)
+        for node_id in sorted(self.over):
+            anchor = self.functional.get(node_id)
+            if node_id not in seen or not on_wall(self.support[node_id]) or anchor is None:
+                raise HierarchyError(
+                    f"{node_id!r} hangs over its anchor, so it must be a node on a wall with "
+                    "a functional anchor"
+                )
+            if self.support[anchor] != FLOOR:
+                raise HierarchyError(
+                    f"{node_id!r} hangs over {anchor!r}, which must stand on the floor"
+                )
         return self
 
     # -- trees and order ------------------------------------------------------------------
@@ -311,7 +328,11 @@ class Hierarchy:
             "functional_trees": [
                 {
                     "support_anchor": ref(t.support),
-                    "edges": [{"anchor": ref(a), "dependent": ref(d)} for a, d in t.edges],
+                    "edges": [
+                        {"anchor": ref(a), "dependent": ref(d)}
+                        | ({"over": True} if d in self.over else {})
+                        for a, d in t.edges
+                    ],
                 }
                 for t in self.functional_trees()
             ],
@@ -361,6 +382,11 @@ class Hierarchy:
                     anchor, dep = _text(_ref_id(e["anchor"])), _text(_ref_id(e["dependent"]))
                     if anchor != root:
                         h.functional[dep] = anchor
+                    over = e.get("over", False)
+                    if not isinstance(over, bool):
+                        raise TypeError(f"'over' of {dep!r} is not true or false")
+                    if over:
+                        h.over.add(dep)
         except (KeyError, TypeError, AttributeError, ValueError) as e:
             msg = f"{where}: malformed hierarchy ({type(e).__name__}: {_short(str(e))})"
             raise HierarchyError(msg) from None
