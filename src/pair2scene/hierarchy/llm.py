@@ -141,9 +141,8 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
         "painting above the bed, a mirror above the dresser, a TV on the wall opposite the "
         'sofa, a wall lamp beside the bed) or on the Wall; "over": true on the edge of one '
         "hung right above its Floor anchor (a painting above the bed). Curtains and blinds "
-        "hang at "
-        "windows, one object per window (curtains on two windows: two curtains objects), "
-        "placed relative to no object.\n"
+        "hang at windows, one object per window (curtains on two windows: two curtains "
+        "objects), placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
         f"room with what such a room usually holds.{limit}\n"
         f"- room_type: one of {', '.join(ROOM_TYPES)}.\n\n"
