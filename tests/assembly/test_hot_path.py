@@ -181,6 +181,7 @@ def test_a_dense_room_gives_up_on_an_object_that_no_longer_fits():
     assert not any("gave up" in d.reason for d in fit.place(h, room, seed=0).stats.dropped)
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run; ~30-60 s)
 def test_a_crowded_support_gives_up_later_and_names_its_option():
     """Objects on a support have their own limit (dense_give_up_support): on a coffee
     table carrying more bowls than fit, a bowl stops after that many collisions, with the

@@ -152,6 +152,7 @@ def test_curtains_hang_before_the_furniture_that_would_block_their_window():
     assert order[0] == "curtains" and order.index("sofa") < order.index("painting")
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run; ~30-60 s)
 def test_the_living_room_example_dresses_every_window():
     """Issue 19's text example, as a user runs it: a sofa, the painting above it on the
     wall behind it, and curtains at every window of the room, seeds 0-9."""

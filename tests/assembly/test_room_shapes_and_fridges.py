@@ -15,6 +15,7 @@ def p2s():
     return Pair2Scene.from_pretrained()
 
 
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run; ~15-25 s)
 def test_rooms_take_training_shapes_and_keep_their_furniture_inside(p2s):
     corners = set()
     for seed in range(4):
