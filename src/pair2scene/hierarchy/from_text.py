@@ -159,7 +159,7 @@ def hierarchy_from_spec(
         nodes: list[Node] = []
         wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS)
         if wall:
-            nodes = _hang(h, m, func_rel, instances, over=m.ref in spec.over)
+            nodes = _hang(h, m, func_rel, instances, over=func_rel is not None and func_rel.over)
             sup_rel = None
         elif sup_rel is not None:
             anchors = instances[sup_rel.anchor]

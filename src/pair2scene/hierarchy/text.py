@@ -86,6 +86,10 @@ class Relation:
     each: bool
     """True: the dependent's count is per instance of the anchor ("a lamp on each
     nightstand"); False: the dependent's count is spread over the anchor's instances."""
+    over: bool = False
+    """A functional relation the text put "above" or "over" ("a painting above the
+    sofa"): a dependent hung on a wall hangs over its anchor, within its width
+    (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`)."""
 
     def __post_init__(self) -> None:
         if self.kind not in RELATION_KINDS:
@@ -120,10 +124,6 @@ class TextSpec:
     none of them."""
     notes: tuple[str, ...] = ()
     """What was done to the text before it was read (cut at :data:`MAX_TEXT_CHARS`)."""
-    over: tuple[str, ...] = ()
-    """The :attr:`Mention.ref` s the text puts above their functional anchor ("a painting
-    above the sofa", "a mirror over the dresser"): one that hangs on a wall hangs over it,
-    within its width (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`)."""
 
 
 # -- tables ---------------------------------------------------------------------------------
@@ -314,7 +314,7 @@ class _Cue:
     """One item per side: a single item becomes two ("a nightstand on either side of")."""
     over: bool = False
     """The items are above the anchor ("a painting above the sofa"): one hung on a wall
-    hangs over it (:attr:`TextSpec.over`)."""
+    hangs over it (:attr:`Relation.over`)."""
 
 
 WITH, NEGATE = "with", "negate"
@@ -737,8 +737,8 @@ class _Parser:
     objects: dict[str, _Object] = field(default_factory=dict)
     recency: list[str] = field(default_factory=list)
     """Refs (and :data:`_ROOM`), least recently mentioned first."""
-    relations: dict[tuple[str, str, str], tuple[bool, bool]] = field(default_factory=dict)
-    """(kind, dependent, anchor) -> (each, explicit); implicit ones come from "with"."""
+    relations: dict[tuple[str, str, str], tuple[bool, bool, bool]] = field(default_factory=dict)
+    """(kind, dependent, anchor) -> (each, explicit, over); implicit ones come from "with"."""
     unparsed: list[str] = field(default_factory=list)
     stack: list[_Head] = field(default_factory=lambda: [_Head(None)])
     group: list[str] = field(default_factory=list)
@@ -755,8 +755,6 @@ class _Parser:
     """The latest phrase naming each of :data:`_FEATURES` ("the windows")."""
     cued: tuple[str | None, list[str]] = (None, [])
     """The anchor and dependents of the latest cue that related objects."""
-    over: set[str] = field(default_factory=set)
-    """Dependents whose functional relation came from an "above" / "over" cue."""
 
     def run(self, elements: list[_Element]) -> None:
         """Reads the elements in order; a dependent-first cue waits for its anchor."""
@@ -778,16 +776,13 @@ class _Parser:
             Mention(ref, o.category, o.count, o.phrase) for ref, o in self.objects.items()
         )
         relations = tuple(
-            Relation(k, d, a, each) for (k, d, a), (each, _) in self.relations.items()
+            Relation(k, d, a, each, over) for (k, d, a), (each, _, over) in self.relations.items()
         )
         on_wall = tuple(ref for ref, o in self.objects.items() if o.wall)
         unparsed = tuple(dict.fromkeys(self.unparsed))
         named = {m.category for m in mentions}
         excluded = tuple(c for c in dict.fromkeys(self.excluded) if c not in named)
-        functional = {d for k, d, _ in self.relations if k == FUNCTIONAL}
-        over = tuple(ref for ref in self.objects if ref in self.over and ref in functional)
-        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall, excluded,
-                        over=over)  # fmt: skip
+        return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall, excluded)
 
     # -- elements
 
@@ -893,9 +888,7 @@ class _Parser:
             self._implicit(anchor)
         if not cue.container or self.objects[anchor].category in CONTAINERS:
             for dep in run:
-                related = self._relate(cue.kind, dep, anchor, each, explicit=True)
-                if related and cue.kind == FUNCTIONAL:  # the latest such cue says where
-                    (self.over.add if cue.over else self.over.discard)(dep)
+                related = self._relate(cue.kind, dep, anchor, each, explicit=True, over=cue.over)
                 if related and cue.pair:
                     self.objects[dep].count = max(self.objects[dep].count, 2)
         self.cued = (anchor, run)
@@ -1051,7 +1044,9 @@ class _Parser:
         assert head.ref is not None
         self._relate(kind, ref, head.ref, head.each, explicit=False)
 
-    def _relate(self, kind: str, dep: str, anchor: str, each: bool, explicit: bool) -> bool:
+    def _relate(
+        self, kind: str, dep: str, anchor: str, each: bool, explicit: bool, over: bool = False
+    ) -> bool:
         """Adds a relation unless it would close a cycle. An explicit relation replaces the
         dependent's implicit ones and its earlier relation of the same kind; an implicit one
         never replaces anything."""
@@ -1064,12 +1059,12 @@ class _Parser:
                 self.objects[dep].wall = False
         mine = {key: value for key, value in self.relations.items() if key[1] == dep}
         if explicit:
-            for key, (_, was_explicit) in mine.items():
+            for key, (_, was_explicit, _) in mine.items():
                 if not was_explicit or key[0] == kind:
                     del self.relations[key]
         elif mine:
             return False
-        self.relations[(kind, dep, anchor)] = (each, explicit)
+        self.relations[(kind, dep, anchor)] = (each, explicit, over)
         return True
 
     def _hang(self, ref: str) -> bool:
@@ -1083,9 +1078,9 @@ class _Parser:
             obj.category = WALL_LAMP
         obj.wall = True
         for key in [key for key in self.relations if key[0] == SUPPORT and key[1] == ref]:
-            each, explicit = self.relations.pop(key)
+            value = self.relations.pop(key)
             if not any(k[0] == FUNCTIONAL and k[1] == ref for k in self.relations):
-                self.relations[(FUNCTIONAL, ref, key[2])] = (each, explicit)
+                self.relations[(FUNCTIONAL, ref, key[2])] = value
         return True
 
     def _hang_on(self, feature: str, ref: str, support: bool, each: bool) -> bool:
