@@ -185,3 +185,18 @@ def test_an_object_that_must_stand_in_front_of_its_anchor():
     away = OrientedBox.from_yaw([5.5, 0.5, 0.3], [1.4, 0.45, 0.6], -np.pi / 2)
     assert AnchorCheck(sofa, 4.0, must_face=True, in_front=True).reason(away) == "faces_away"
     assert AnchorCheck(sofa, 1.0, must_face=False).reason(ahead) == "far_from_anchor"
+
+
+def test_across_draws_with_the_pairs_faced_share():
+    """A mounted object hangs across from its anchor with the share of the pair's
+    training objects its anchor faced; same seed, same draw; a pair without a rule never."""
+    stats = HierarchyStats()
+    stats.func_geometry = {"television": {"sofa": [40.0, 20.0, 30.0, 80.0, 200.0]}}
+    rules = AnchorRules.from_stats(stats)
+    draws = [rules.across("television", "sofa", seed) for seed in range(2000)]
+    assert np.mean(draws) == pytest.approx(0.75, abs=0.03)
+    assert draws == [rules.across("television", "sofa", seed) for seed in range(2000)]
+    assert not any(rules.across("television", "bed", seed) for seed in range(50))
+    # the draw is check()'s in_front draw: one decision per object
+    box = OrientedBox.from_yaw([1.0, 1.0, 0.4], [2.0, 0.9, 0.8])
+    assert all(rules.check("television", "sofa", box, s).in_front == draws[s] for s in range(50))

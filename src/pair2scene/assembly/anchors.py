@@ -164,6 +164,16 @@ class AnchorRules(_PairRules):
         return AnchorCheck(anchor_box, rule.max_gap, bool(u[0] < rule.facing),
                            bool(u[1] < rule.faced), rule.gap_mean > ACROSS_M)  # fmt: skip
 
+    def across(self, dependent: str, anchor: str, seed: int) -> bool:
+        """Whether a mounted object (``seed``: its asset seed) hangs on a wall its floor
+        anchor faces, across the room from it, rather than over it: drawn with the share
+        of the pair's training objects the anchor faced (:attr:`PairGeometry.faced`, the
+        draw :meth:`check` makes for ``in_front``). A television anchored to a sofa hangs
+        across from it 11 times of 20, to an armchair 15 of 16; a painting over its bed
+        25 times of 120, the other 95 across from it. False when the pair has no rule."""
+        drawn = self._drawn(dependent, anchor, seed, _SALT, 2)
+        return drawn is not None and bool(drawn[1][1] < drawn[0].faced)
+
 
 ALIGNED_MIN = 0.97
 """A (dependent, support) pair whose dependents faced their support's way at least this

@@ -71,12 +71,14 @@ def mount_order(
     rng: np.random.Generator,
     anchor: OrientedBox | None = None,
     only: int | None = None,
+    across: bool = False,
 ) -> list[Wall]:
     """The walls to try for a mounted object, best first: ``only`` that wall (a hierarchy
     naming it); else, with a functional ``anchor`` (a floor object), the wall it stands
-    against (a painting above the bed), then the walls it faces (a TV across from the
-    sofa), then the rest; without one, every wall in a random order weighted by length
-    (a long wall holds more)."""
+    against (a painting above the bed), then the walls it faces, then the rest; ``across``
+    (the object hangs across the room from its anchor: a TV facing the sofa) the walls the
+    anchor faces first, then the one it stands against, then the rest. Without an anchor,
+    every wall in a random order weighted by length (a long wall holds more)."""
     if only is not None:
         return [w for w in walls if w.index == only]
     keys = weighted_keys(rng, [max(w.length, 1e-3) for w in walls])
@@ -86,7 +88,8 @@ def mount_order(
     contact = wall_contact(anchor, walls)
     behind = [w for w in order if contact is not None and w.index == contact.wall]
     faced = [w for w in order if w not in behind and faced_by(w, anchor)]
-    return behind + faced + [w for w in order if w not in behind and w not in faced]
+    first = faced + behind if across else behind + faced
+    return first + [w for w in order if w not in behind and w not in faced]
 
 
 def hang(wall: Wall, along: float, z: float, size: np.ndarray) -> OrientedBox:

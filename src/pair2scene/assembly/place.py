@@ -70,6 +70,7 @@ from pair2scene.assembly.rest import (
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assembly.walls import (
     WallRules,
+    faced_by,
     free_length,
     free_stretches,
     to_corners,
@@ -94,6 +95,7 @@ from pair2scene.scene.model import (
     wall_support,
 )
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
+from pair2scene.scene.relations import faces
 from pair2scene.scene.walls import Wall, convex_ends, wall_contact, walls_of
 
 MAX_CANDIDATES = 100_000
@@ -560,10 +562,16 @@ class Placer:
             )
             overflow = {o.id: o.reason for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
+        nodes = hierarchy.by_id()
+        across = {  # mounted objects hung across the room from their floor anchor
+            n.id for n in hierarchy.nodes
+            if on_wall(hierarchy.support[n.id]) and n.id not in hierarchy.over
+            and self._hangs_across(n, hierarchy.functional.get(n.id), nodes, seed, framed)
+        }  # fmt: skip
         backed = {  # floor objects a painting or mirror hangs over: against a wall
             hierarchy.functional[n.id] for n in hierarchy.nodes
             if n.category in HANGS_OVER and on_wall(hierarchy.support[n.id])
-            and hierarchy.functional.get(n.id) is not None
+            and hierarchy.functional.get(n.id) is not None and n.id not in across
         }  # fmt: skip
         timer["assets"] += time.perf_counter() - t0
 
@@ -620,7 +628,7 @@ class Placer:
                                              node.id in backed) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
-                                              dressed, over)  # fmt: skip
+                                              dressed, over, node.id in across)  # fmt: skip
                 if not queries:
                     why = ("no window left for it" if node.category in WINDOW_DRESSINGS
                            else "no wall of the room")  # fmt: skip
@@ -637,6 +645,8 @@ class Placer:
             context.below_top = support.category in self.top_free
             if over is not None:
                 context.over = functional.box
+            if node.id in across and functional is not None:
+                context.across = functional.box
             ends = None  # the room's convex corners, when this object stands in one
             if (
                 on_floor_
@@ -792,14 +802,26 @@ class Placer:
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
+    def _hangs_across(
+        self, node, anchor: str | None, nodes: dict, seed: int, framed: bool
+    ) -> bool:
+        """Whether mounted ``node`` hangs across the room from its floor anchor ``anchor``
+        (an id of ``nodes``; :meth:`AnchorRules.across
+        <pair2scene.assembly.anchors.AnchorRules.across>`): never without the anchor rules
+        (:attr:`AssemblyConfig.anchors`)."""
+        if anchor is None or not (self.config.anchors and self.anchors is not None and framed):
+            return False
+        return self.anchors.across(node.category, nodes[anchor].category,
+                                   asset_seed(node.id, seed))  # fmt: skip
+
     def _mount_queries(
         self, query, node, support: str, room: Room, placed: dict[str, _Placed], seed: int,
-        dressed: set[int], over: int | None = None,
+        dressed: set[int], over: int | None = None, across: bool = False,
     ) -> list:  # fmt: skip
         """(``query`` on a wall, the wall) once per wall to try (:func:`mount_order`); for
         curtains and blinds (None, a :class:`_Dressing`) once per window not yet dressed.
         ``over``: the index of the only wall to try (the one behind the floor object it
-        hangs over)."""
+        hangs over); ``across``: the walls its functional anchor faces first."""
         from pair2scene.model.api import Anchor
 
         walls = walls_of(room.floor_polygon)
@@ -824,7 +846,7 @@ class Placer:
             return out
         anchor = None if query.functional is None else query.functional.box
         only = wall_index(support) if over is None else over
-        order = mount_order(walls, rng, anchor, only)
+        order = mount_order(walls, rng, anchor, only, across)
         return [(replace(query, support=Anchor.wall(w.frame(room.height))), w) for w in order]
 
     def _settle_candidate(
@@ -881,6 +903,9 @@ class Placer:
             hung = hang_over(hung, ctx.mount, ctx.over)
         if not cfg.reject:
             return hung, None, False
+        if ctx.across is not None and faced_by(ctx.mount, ctx.across):
+            if not faces(ctx.across, hung):
+                return None, "not_in_front", False
         floor = _floor_boxes(ctx.placed, ctx.ids)
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
         if reason is None:
@@ -1022,6 +1047,9 @@ class _Context:
     """Keeps the object at its functional anchor (None: no rule)."""
     over: OrientedBox | None = None
     """The floor object a mounted one hangs over (:func:`hang_over`; None: where drawn)."""
+    across: OrientedBox | None = None
+    """The floor object a mounted one hangs across the room from (on a wall it faces, only
+    where it faces the object: ``not_in_front``); None: no such test."""
     spot: SpotCheck | None = None
     """Keeps the object at its spot on its support (None: no rule)."""
     wall: Wall | None = None
