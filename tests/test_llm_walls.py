@@ -226,3 +226,29 @@ def test_an_edge_over_its_floor_anchor_hangs_over_it(llm):
     not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update(over="yes"))
     with pytest.raises(Exception, match="over"):
         validate_json(not_bool, reply_schema())
+
+
+def test_an_edge_across_from_its_floor_anchor_hangs_across_the_room(llm):
+    """ "across": true is the offline parser's "a TV opposite the sofa"; with "over" on the
+    same edge, or on an edge that cannot hang, it is refused with one repair round."""
+
+    def flag(reply, key="across", dependent="painting_0"):
+        for tree in reply["functional_trees"]:
+            for e in tree["edges"]:
+                if e["dependent"] == dependent:
+                    e[key] = True
+
+    reply = edited(flag)
+    validate_json(reply, reply_schema())
+    h = hierarchy_from_reply(reply)
+    assert h.across == {"painting_0"} and h.over == set()
+    both = edited(lambda r: (flag(r), flag(r, "over")))
+    with pytest.raises(HierarchyError, match="both over and across"):
+        hierarchy_from_reply(both)
+    server, client = llm
+    server.replies += [ok(both), ok(reply)]
+    h = hierarchy_from_llm(client, TEXT)
+    assert h.across == {"painting_0"} and "repair" in h.notes[-1]
+    not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update(across="no"))
+    with pytest.raises(Exception, match="across"):
+        validate_json(not_bool, reply_schema())

@@ -182,6 +182,43 @@ def test_the_living_room_example_dresses_every_window():
             assert painting.box.bottom > by["sofa_0"].box.top, seed
 
 
+def test_a_tv_the_text_puts_opposite_the_sofa_hangs_where_the_sofa_faces_it():
+    """ "a TV on the wall opposite the sofa" (:attr:`Hierarchy.across`): the TV hangs on a
+    wall the sofa faces, where the sofa faces it, in every seed; before, it went on the
+    wall behind the sofa first."""
+    from pair2scene.assembly.walls import faced_by
+    from pair2scene.generate import Pair2Scene
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.relations import faces
+
+    placer = Pair2Scene.from_pretrained().placer
+    for seed in range(6):
+        h = Hierarchy("living_room")
+        sofa = h.add("sofa", "floor")
+        tv = h.add("television", "wall", sofa.id)
+        h.across.add(tv.id)
+        scene = placer.place(h.validate(), ROOM, seed=seed).scene
+        by = {o.id: o for o in scene.objects}
+        assert faced_by(WALLS[wall_index(by[tv.id].support)], by[sofa.id].box), seed
+        assert faces(by[sofa.id].box, by[tv.id].box), seed
+
+
+@pytest.mark.slow  # (CI runs the slow tests too: .ci/run; ~20 s)
+def test_the_text_tv_opposite_the_sofa_as_a_user_runs_it():
+    """The README's phrase through ``generate --text``, seeds 0-4: the sofa faces the TV."""
+    from pair2scene.generate import Pair2Scene
+    from pair2scene.scene.relations import faces
+
+    gen = Pair2Scene.from_pretrained()
+    text = "a living room with a sofa and a TV on the wall opposite the sofa"
+    for seed in range(5):
+        scene = gen.generate(text=text, seed=seed, llm="never").scene
+        by = {o.id: o for o in scene.objects}
+        tv = by["television_0"]
+        assert tv.support.startswith("wall") and tv.functional_anchor == "sofa_0", seed
+        assert faces(by["sofa_0"].box, tv.box), seed
+
+
 def _within_along(box: OrientedBox, anchor: OrientedBox, wall, tol: float = 1e-6) -> bool:
     """Whether ``box`` spans no more of ``wall`` than ``anchor`` does (or, wider than it,
     is centred on it)."""

@@ -270,7 +270,7 @@ CASES = [
         "a TV on the wall opposite the sofa",
         {"television"},
         [("television", WALL, "sofa")],
-        ["on a wall: television_0 by sofa_0"],
+        ["on a wall: television_0 across from sofa_0"],
     ),
     (
         "a television mounted on the wall",
@@ -296,7 +296,7 @@ CASES = [
         "a living room with a tv on the wall and a sofa facing it",
         {"television", "sofa"},
         [("television", WALL, "sofa"), ("sofa", FLOOR, None)],
-        ["on a wall: television_0", "television_0 (on a wall) is placed relative to sofa_0"],
+        ["on a wall: television_0", "television_0 (on a wall) is placed across from sofa_0"],
     ),
 ]  # fmt: skip
 
@@ -347,6 +347,30 @@ def test_above_and_over_hang_a_wall_object_over_its_anchor(text, over):
     for node_id in h.over:
         assert h.support[node_id] == WALL and h.support[h.functional[node_id]] == FLOOR
     assert Hierarchy.from_dict(h.to_dict()).over == h.over  # the file keeps it
+
+
+@pytest.mark.parametrize(
+    "text, across",
+    [
+        ("a TV on the wall opposite the sofa", {"television"}),
+        ("a living room with a tv on the wall across from the armchair", {"television"}),
+        ("a painting facing the bed", {"painting"}),
+        ("a living room with a tv on the wall and a sofa facing it", {"television"}),
+        ("a painting above the sofa", set()),  # over it
+        ("a TV next to the sofa, on the wall", set()),  # by it: as the training pairs stood
+        ("a TV opposite the sofa. The TV above the sofa.", set()),  # latest wins
+        ("a chair facing the desk", set()),  # nothing hangs
+        ("a painting opposite the TV on the wall", set()),  # its anchor hangs
+    ],
+)
+def test_opposite_across_from_and_facing_hang_a_wall_object_across_the_room(text, across):
+    h = offline(text)
+    cat = {n.id: n.category for n in h.nodes}
+    assert {cat[i] for i in h.across} == across
+    for node_id in h.across:
+        assert h.support[node_id] == WALL and h.support[h.functional[node_id]] == FLOOR
+    assert not h.across & h.over
+    assert Hierarchy.from_dict(h.to_dict()).across == h.across  # the file keeps it
 
 
 def test_wall_objects_leave_the_floor_completion_alone():

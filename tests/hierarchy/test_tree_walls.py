@@ -92,3 +92,31 @@ def test_a_wall_object_over_its_anchor_round_trips_and_is_checked():
     h.over.add("wall_lamp_0")
     with pytest.raises(HierarchyError, match="must stand on the floor"):
         h.validate()
+
+
+def test_a_wall_object_across_from_its_anchor_round_trips_and_is_checked():
+    h = bedroom()
+    h.across.add("painting_0")
+    doc = h.validate().to_dict()
+    (tree,) = [t for t in doc["functional_trees"] if t["support_anchor"]["id"] == "wall"]
+    flags = {e["dependent"]["id"]: (e.get("over"), e.get("across")) for e in tree["edges"]}
+    assert flags == {"painting_0": (None, True), "curtains_0": (None, None)}
+    back = Hierarchy.from_dict(doc)
+    assert back.across == {"painting_0"} and back.over == set()
+    (edge,) = [e for e in tree["edges"] if "across" in e]
+    edge["across"] = 1
+    with pytest.raises(HierarchyError, match="malformed hierarchy.*'across'"):
+        Hierarchy.from_dict(doc)
+    for node_id, message in [
+        ("curtains_0", "across from its anchor, so it must be.*functional anchor"),
+        ("side_table_0", "a node on a wall"),
+    ]:
+        h = bedroom()
+        h.across.add(node_id)
+        with pytest.raises(HierarchyError, match=message):
+            h.validate()
+    h = bedroom()
+    h.over.add("painting_0")
+    h.across.add("painting_0")
+    with pytest.raises(HierarchyError, match="both over and across"):
+        h.validate()

@@ -360,5 +360,6 @@ def merge_keep(hierarchy: Hierarchy, keep: list[SceneObject]) -> tuple[Hierarchy
         {new(k): new(v) for k, v in hierarchy.functional.items()},
         list(hierarchy.notes),
         {new(k) for k in hierarchy.over},
+        {new(k) for k in hierarchy.across},
     )
     return merged, set(used)

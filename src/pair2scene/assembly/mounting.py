@@ -8,7 +8,10 @@ training tuples have it). :func:`mount` then hangs the drawn box on the wall: tu
 face the room, its back :data:`MOUNT_GAP_M` off the wall, along the wall and in height
 where the model put it, kept within the wall and under the ceiling; one the hierarchy
 hangs over its anchor (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`) goes only on
-the wall behind that anchor, moved along it to be over it (:func:`hang_over`).
+the wall behind that anchor, moved along it to be over it (:func:`hang_over`); one it
+hangs across from its anchor (:attr:`~pair2scene.hierarchy.tree.Hierarchy.across`, or
+drawn so with the training pairs' share) tries the walls the anchor faces first, and on
+them only where the anchor faces it.
 :func:`mount_blocked` rejects what would cover a door or a window (curtains and blinds
 excepted), hang behind a piece of furniture standing against the wall and reaching above
 its bottom (a painting behind a wardrobe), or stand off the wall's ends; collisions with

@@ -563,9 +563,10 @@ class Placer:
             overflow = {o.id: o.reason for o in full}
         order = placement_order(hierarchy, assets) if cfg.largest_first else hierarchy.sequence()
         nodes = hierarchy.by_id()
-        across = {  # mounted objects hung across the room from their floor anchor
+        across = set(hierarchy.across) | {  # mounted objects hung across from their anchor
             n.id for n in hierarchy.nodes
             if on_wall(hierarchy.support[n.id]) and n.id not in hierarchy.over
+            and n.id not in hierarchy.across
             and self._hangs_across(n, hierarchy.functional.get(n.id), nodes, seed, framed)
         }  # fmt: skip
         backed = {  # floor objects a painting or mirror hangs over: against a wall
@@ -628,7 +629,8 @@ class Placer:
                                              node.id in backed) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
-                                              dressed, over, node.id in across)  # fmt: skip
+                                              dressed, over, node.id in across,
+                                              node.id in hierarchy.across)  # fmt: skip
                 if not queries:
                     why = ("no window left for it" if node.category in WINDOW_DRESSINGS
                            else "no wall of the room")  # fmt: skip
@@ -802,9 +804,7 @@ class Placer:
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
-    def _hangs_across(
-        self, node, anchor: str | None, nodes: dict, seed: int, framed: bool
-    ) -> bool:
+    def _hangs_across(self, node, anchor: str | None, nodes: dict, seed: int, framed: bool) -> bool:
         """Whether mounted ``node`` hangs across the room from its floor anchor ``anchor``
         (an id of ``nodes``; :meth:`AnchorRules.across
         <pair2scene.assembly.anchors.AnchorRules.across>`): never without the anchor rules
@@ -817,11 +817,14 @@ class Placer:
     def _mount_queries(
         self, query, node, support: str, room: Room, placed: dict[str, _Placed], seed: int,
         dressed: set[int], over: int | None = None, across: bool = False,
+        only_faced: bool = False,
     ) -> list:  # fmt: skip
         """(``query`` on a wall, the wall) once per wall to try (:func:`mount_order`); for
         curtains and blinds (None, a :class:`_Dressing`) once per window not yet dressed.
         ``over``: the index of the only wall to try (the one behind the floor object it
-        hangs over); ``across``: the walls its functional anchor faces first."""
+        hangs over); ``across``: the walls its functional anchor faces first, and with
+        ``only_faced`` (the hierarchy hangs it there: "a TV opposite the sofa") only
+        those, when the anchor faces any."""
         from pair2scene.model.api import Anchor
 
         walls = walls_of(room.floor_polygon)
@@ -847,6 +850,8 @@ class Placer:
         anchor = None if query.functional is None else query.functional.box
         only = wall_index(support) if over is None else over
         order = mount_order(walls, rng, anchor, only, across)
+        if only_faced and anchor is not None:
+            order = [w for w in order if faced_by(w, anchor)] or order
         return [(replace(query, support=Anchor.wall(w.frame(room.height))), w) for w in order]
 
     def _settle_candidate(

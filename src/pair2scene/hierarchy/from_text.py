@@ -14,7 +14,9 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
    puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
    floor-standing object under it, is its functional anchor ("a painting above the
-   sofa": above or over it, it hangs over that floor object, :attr:`~.tree.Hierarchy.over`);
+   sofa": above or over it, it hangs over that floor object, :attr:`~.tree.Hierarchy.over`;
+   "a TV on the wall opposite the sofa": opposite, across from or facing it, it hangs
+   across the room where that object faces it, :attr:`~.tree.Hierarchy.across`);
    without one it has none ("a mirror on the wall"). Curtains and blinds never
    have one: placement hangs each at a window and gives the room a window for each. A
    floor object the text places relative to a wall object ("a sofa facing the TV on the
@@ -159,7 +161,7 @@ def hierarchy_from_spec(
         nodes: list[Node] = []
         wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS)
         if wall:
-            nodes = _hang(h, m, func_rel, instances, over=func_rel is not None and func_rel.over)
+            nodes = _hang(h, m, func_rel, instances)
             sup_rel = None
         elif sup_rel is not None:
             anchors = instances[sup_rel.anchor]
@@ -175,7 +177,8 @@ def hierarchy_from_spec(
                 if on_floor:  # a sofa facing a tv on a stand faces the stand, on the floor
                     a = _root_ancestor(h, a)
                 if on_wall(h.support[a.id]) and (on_floor or m.category not in MOUNTABLE):
-                    nodes.append(_beside_wall_object(h, st, m.category, a, on_floor, rng))
+                    nodes.append(_beside_wall_object(h, st, m.category, a, on_floor, rng,
+                                                     func_rel.across))  # fmt: skip
                     continue
                 nodes.append(h.add(m.category, h.support[a.id], a.id))
                 if on_wall(h.support[a.id]):  # "a TV beside the painting" hangs beside it
@@ -252,13 +255,12 @@ def _root_ancestor(h: Hierarchy, node: Node) -> Node:
     return node
 
 
-def _hang(
-    h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]], over: bool = False
-) -> list[Node]:
+def _hang(h: Hierarchy, m: Mention, func_rel, instances: dict[str, list[Node]]) -> list[Node]:
     """``m``'s nodes on ``wall``, each placed relative to the text's anchor (or the object
-    on the floor or a wall under it), curtains and blinds relative to nothing; ``over``
-    (the text put it above the anchor): hung over an anchor standing on the floor
-    (:attr:`Hierarchy.over`). A note says what hangs where."""
+    on the floor or a wall under it), curtains and blinds relative to nothing. One the
+    text put above its anchor (:attr:`Relation.over`) hangs over it, one it put opposite
+    (:attr:`Relation.across`) across the room from it, when the anchor stands on the floor
+    (:attr:`Hierarchy.over`, :attr:`Hierarchy.across`). A note says what hangs where."""
     anchors = [] if func_rel is None else instances[func_rel.anchor]
     window = m.category in WINDOW_DRESSINGS
     if window and anchors:
@@ -271,8 +273,11 @@ def _hang(
     for i in range(n):
         a = _root_ancestor(h, anchors[i % len(anchors)]) if anchors else None
         nodes.append(h.add(m.category, WALL, None if a is None else a.id))
-        if over and a is not None and h.support[a.id] == FLOOR:
-            h.over.add(nodes[-1].id)
+        if func_rel is not None and a is not None and h.support[a.id] == FLOOR:
+            if func_rel.over:
+                h.over.add(nodes[-1].id)
+            elif func_rel.across:
+                h.across.add(nodes[-1].id)
     if not nodes:
         return nodes
     ids = ", ".join(node.id for node in nodes)
@@ -281,7 +286,10 @@ def _hang(
         h.notes.append(f"{where}: {ids}, at a window each")
     elif anchors:
         by = sorted({h.functional[node.id] for node in nodes})
-        how = "over" if all(node.id in h.over for node in nodes) else "by"
+        how = "by"
+        for way, chosen in (("over", h.over), ("across from", h.across)):
+            if all(node.id in chosen for node in nodes):
+                how = way
         h.notes.append(f"{where}: {ids} {how} {', '.join(by)}")
     else:
         h.notes.append(f"{where}: {ids}")
@@ -289,18 +297,24 @@ def _hang(
 
 
 def _beside_wall_object(
-    h: Hierarchy, st: Statistics, category: str, wall_object: Node, on_floor: bool, rng
-) -> Node:
+    h: Hierarchy, st: Statistics, category: str, wall_object: Node, on_floor: bool, rng,
+    across: bool = False,
+) -> Node:  # fmt: skip
     """A new ``category`` node the text places relative to a wall object: it stands on the
     floor (``on_floor``) or where its category rests; a floor object becomes the wall
-    object's anchor when that has none ("a sofa facing the TV on the wall": the TV is
-    placed opposite the sofa), else the relation is dropped with a note."""
+    object's anchor when that has none, and with ``across`` (the text put it opposite or
+    facing the wall object) the wall object hangs across the room from it ("a sofa facing
+    the TV on the wall": the TV hangs where the sofa faces it); else the relation is
+    dropped with a note."""
     support = FLOOR if on_floor else _default_support(h, st, category, rng)
     node = h.add(category, support)
     free = wall_object.id not in h.functional and wall_object.category not in WINDOW_DRESSINGS
     if support == FLOOR and free:
         h.functional[wall_object.id] = node.id
-        h.notes.append(f"{wall_object.id} (on a wall) is placed relative to {node.id}")
+        if across:
+            h.across.add(wall_object.id)
+        how = "across from" if across else "relative to"
+        h.notes.append(f"{wall_object.id} (on a wall) is placed {how} {node.id}")
     else:
         h.notes.append(
             f"{node.id}: dropped the functional anchor {wall_object.id} (it hangs on a wall)"

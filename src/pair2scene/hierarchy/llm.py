@@ -7,7 +7,8 @@ mirrors, curtains, blinds, wall lamps, mounted TVs) rest on ``"Wall"`` (placemen
 which wall; ``wall:<i>`` names wall i, as in hierarchy files) and may take a Floor object
 as their functional anchor (a painting above the bed); curtains and blinds take none
 (placement hangs each at a window); an edge with ``"over": true`` hangs it over that
-anchor (:attr:`Hierarchy.over`). The reply is checked twice: against a JSON schema (by
+anchor (:attr:`Hierarchy.over`), one with ``"across": true`` across the room where that
+anchor faces it (:attr:`Hierarchy.across`). The reply is checked twice: against a JSON schema (by
 :class:`pair2scene.llm.LLMClient`) and as a hierarchy (:meth:`Hierarchy.validate`: known
 categories, grounded, acyclic, functional anchors on the same support, a wall object's on
 the floor). A reply that fails either gets one repair round, the problem quoted back to
@@ -54,6 +55,10 @@ def reply_schema() -> dict:
             "over": {
                 "type": "boolean",
                 "description": "a wall object hung right above its Floor anchor",
+            },
+            "across": {
+                "type": "boolean",
+                "description": "a wall object hung across the room, facing its Floor anchor",
             },
         },
         "required": ["anchor", "dependent"],
@@ -140,7 +145,8 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
         f"except on the '{LLM_WALL}': a wall object's anchor is an object on the Floor (a "
         "painting above the bed, a mirror above the dresser, a TV on the wall opposite the "
         'sofa, a wall lamp beside the bed) or on the Wall; "over": true on the edge of one '
-        "hung right above its Floor anchor (a painting above the bed). Curtains and blinds "
+        'hung right above its Floor anchor (a painting above the bed), "across": true on '
+        "one hung across the room facing it (a TV opposite the sofa). Curtains and blinds "
         "hang at windows, one object per window (curtains on two windows: two curtains "
         "objects), placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
@@ -205,6 +211,8 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
             h.functional[dep] = anchor
             if e.get("over", False):
                 h.over.add(dep)  # (validate: on a wall, over an object on the Floor)
+            if e.get("across", False):
+                h.across.add(dep)  # (validate: the same, and not both)
     return h.validate()
 
 

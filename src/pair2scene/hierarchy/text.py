@@ -90,6 +90,11 @@ class Relation:
     """A functional relation the text put "above" or "over" ("a painting above the
     sofa"): a dependent hung on a wall hangs over its anchor, within its width
     (:attr:`~pair2scene.hierarchy.tree.Hierarchy.over`)."""
+    across: bool = False
+    """A functional relation the text put "opposite", "across from" or "facing" ("a TV on
+    the wall opposite the sofa"): a dependent hung on a wall hangs across the room from
+    its anchor, where the anchor faces it
+    (:attr:`~pair2scene.hierarchy.tree.Hierarchy.across`)."""
 
     def __post_init__(self) -> None:
         if self.kind not in RELATION_KINDS:
@@ -315,6 +320,9 @@ class _Cue:
     over: bool = False
     """The items are above the anchor ("a painting above the sofa"): one hung on a wall
     hangs over it (:attr:`Relation.over`)."""
+    across: bool = False
+    """The items face the anchor from across the room ("a TV opposite the sofa"): one hung
+    on a wall hangs where the anchor faces it (:attr:`Relation.across`)."""
 
 
 WITH, NEGATE = "with", "negate"
@@ -322,6 +330,7 @@ _S, _F = _Cue(SUPPORT), _Cue(FUNCTIONAL)
 _IN = _Cue(SUPPORT, container=True)
 _PAIR = _Cue(FUNCTIONAL, pair=True)
 _OVER = _Cue(FUNCTIONAL, over=True)
+_ACROSS = _Cue(FUNCTIONAL, across=True)
 _W, _WS = _Cue(WITH, head_first=True), _Cue(SUPPORT, head_first=True)
 _FILL, _WF = _Cue(SUPPORT, head_first=True, fill=True), _Cue(FUNCTIONAL, head_first=True)
 
@@ -331,9 +340,10 @@ RELATION_CUES: dict[str, _Cue] = {
     "on": _S, "on top of": _S, "on top": _S, "onto": _S, "upon": _S, "atop": _S,
     "in": _IN, "inside": _IN, "inside of": _IN, "into": _IN, "within": _IN,
     "around": _F, "at": _F, "next to": _F, "beside": _F, "besides": _F, "by": _F, "near": _F,
-    "close to": _F, "facing": _F, "opposite": _F, "opposite to": _F, "opposite of": _F,
-    "across from": _F, "in front of": _F, "behind": _F, "under": _F, "underneath": _F,
-    "beneath": _F, "below": _F, "above": _OVER, "over": _OVER, "alongside": _F, "along": _F,
+    "close to": _F, "facing": _ACROSS, "opposite": _ACROSS, "opposite to": _ACROSS,
+    "opposite of": _ACROSS, "across from": _ACROSS, "in front of": _F, "behind": _F,
+    "under": _F, "underneath": _F, "beneath": _F, "below": _F, "above": _OVER, "over": _OVER,
+    "alongside": _F, "along": _F,
     "against": _F, "between": _F, "flanking": _F, "surrounding": _F, "adjacent to": _F,
     "to the left of": _F, "to the right of": _F, "on the left of": _F, "on the right of": _F,
     "left of": _F, "right of": _F, "at the foot of": _F, "at the end of": _F,
@@ -737,8 +747,11 @@ class _Parser:
     objects: dict[str, _Object] = field(default_factory=dict)
     recency: list[str] = field(default_factory=list)
     """Refs (and :data:`_ROOM`), least recently mentioned first."""
-    relations: dict[tuple[str, str, str], tuple[bool, bool, bool]] = field(default_factory=dict)
-    """(kind, dependent, anchor) -> (each, explicit, over); implicit ones come from "with"."""
+    relations: dict[tuple[str, str, str], tuple[bool, bool, bool, bool]] = field(
+        default_factory=dict
+    )
+    """(kind, dependent, anchor) -> (each, explicit, over, across); implicit ones come from
+    "with"."""
     unparsed: list[str] = field(default_factory=list)
     stack: list[_Head] = field(default_factory=lambda: [_Head(None)])
     group: list[str] = field(default_factory=list)
@@ -776,7 +789,8 @@ class _Parser:
             Mention(ref, o.category, o.count, o.phrase) for ref, o in self.objects.items()
         )
         relations = tuple(
-            Relation(k, d, a, each, over) for (k, d, a), (each, _, over) in self.relations.items()
+            Relation(k, d, a, each, over, across)
+            for (k, d, a), (each, _, over, across) in self.relations.items()
         )
         on_wall = tuple(ref for ref, o in self.objects.items() if o.wall)
         unparsed = tuple(dict.fromkeys(self.unparsed))
@@ -888,7 +902,8 @@ class _Parser:
             self._implicit(anchor)
         if not cue.container or self.objects[anchor].category in CONTAINERS:
             for dep in run:
-                related = self._relate(cue.kind, dep, anchor, each, explicit=True, over=cue.over)
+                related = self._relate(cue.kind, dep, anchor, each, explicit=True,
+                                       over=cue.over, across=cue.across)  # fmt: skip
                 if related and cue.pair:
                     self.objects[dep].count = max(self.objects[dep].count, 2)
         self.cued = (anchor, run)
@@ -1045,8 +1060,9 @@ class _Parser:
         self._relate(kind, ref, head.ref, head.each, explicit=False)
 
     def _relate(
-        self, kind: str, dep: str, anchor: str, each: bool, explicit: bool, over: bool = False
-    ) -> bool:
+        self, kind: str, dep: str, anchor: str, each: bool, explicit: bool,
+        over: bool = False, across: bool = False,
+    ) -> bool:  # fmt: skip
         """Adds a relation unless it would close a cycle. An explicit relation replaces the
         dependent's implicit ones and its earlier relation of the same kind; an implicit one
         never replaces anything."""
@@ -1059,12 +1075,12 @@ class _Parser:
                 self.objects[dep].wall = False
         mine = {key: value for key, value in self.relations.items() if key[1] == dep}
         if explicit:
-            for key, (_, was_explicit, _) in mine.items():
+            for key, (_, was_explicit, _, _) in mine.items():
                 if not was_explicit or key[0] == kind:
                     del self.relations[key]
         elif mine:
             return False
-        self.relations[(kind, dep, anchor)] = (each, explicit, over)
+        self.relations[(kind, dep, anchor)] = (each, explicit, over, across)
         return True
 
     def _hang(self, ref: str) -> bool:

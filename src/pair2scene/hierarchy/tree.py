@@ -108,8 +108,12 @@ class Hierarchy:
     over: set[str] = field(default_factory=set)
     """Wall-mounted nodes that hang over their functional anchor, a floor object, within
     its width ("a painting above the sofa"); placement hangs them on the wall behind it.
-    Without this, a wall object relates to its anchor as the training rooms' pairs did
-    (above it or across the room)."""
+    Without this or :attr:`across`, a wall object relates to its anchor as the training
+    rooms' pairs did (over it or across the room, each with the pair's share)."""
+    across: set[str] = field(default_factory=set)
+    """Wall-mounted nodes that hang across the room from their functional anchor, a floor
+    object, where it faces them ("a TV on the wall opposite the sofa"); placement tries
+    only the walls it faces first."""
 
     # -- building -------------------------------------------------------------------------
 
@@ -224,17 +228,20 @@ class Hierarchy:
                 chain[at] = None
                 at = self.functional[at]
             acyclic.update(chain)
-        for node_id in sorted(self.over):
-            anchor = self.functional.get(node_id)
-            if node_id not in seen or not on_wall(self.support[node_id]) or anchor is None:
-                raise HierarchyError(
-                    f"{node_id!r} hangs over its anchor, so it must be a node on a wall with "
-                    "a functional anchor"
-                )
-            if self.support[anchor] != FLOOR:
-                raise HierarchyError(
-                    f"{node_id!r} hangs over {anchor!r}, which must stand on the floor"
-                )
+        for way, hung in (("over", self.over), ("across from", self.across)):
+            for node_id in sorted(hung):
+                anchor = self.functional.get(node_id)
+                if node_id not in seen or not on_wall(self.support[node_id]) or anchor is None:
+                    raise HierarchyError(
+                        f"{node_id!r} hangs {way} its anchor, so it must be a node on a wall "
+                        "with a functional anchor"
+                    )
+                if self.support[anchor] != FLOOR:
+                    raise HierarchyError(
+                        f"{node_id!r} hangs {way} {anchor!r}, which must stand on the floor"
+                    )
+        for node_id in sorted(self.over & self.across):
+            raise HierarchyError(f"{node_id!r} cannot hang both over and across from its anchor")
         return self
 
     # -- trees and order ------------------------------------------------------------------
@@ -331,6 +338,7 @@ class Hierarchy:
                     "edges": [
                         {"anchor": ref(a), "dependent": ref(d)}
                         | ({"over": True} if d in self.over else {})
+                        | ({"across": True} if d in self.across else {})
                         for a, d in t.edges
                     ],
                 }
@@ -382,11 +390,12 @@ class Hierarchy:
                     anchor, dep = _text(_ref_id(e["anchor"])), _text(_ref_id(e["dependent"]))
                     if anchor != root:
                         h.functional[dep] = anchor
-                    over = e.get("over", False)
-                    if not isinstance(over, bool):
-                        raise TypeError(f"'over' of {dep!r} is not true or false")
-                    if over:
-                        h.over.add(dep)
+                    for key, hung in (("over", h.over), ("across", h.across)):
+                        flag = e.get(key, False)
+                        if not isinstance(flag, bool):
+                            raise TypeError(f"{key!r} of {dep!r} is not true or false")
+                        if flag:
+                            hung.add(dep)
         except (KeyError, TypeError, AttributeError, ValueError) as e:
             msg = f"{where}: malformed hierarchy ({type(e).__name__}: {_short(str(e))})"
             raise HierarchyError(msg) from None
