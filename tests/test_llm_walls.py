@@ -202,53 +202,37 @@ def test_garbage_gets_one_repair_round_then_a_clear_error(llm):
         hierarchy_from_llm(client, TEXT + ", and a lamp")
 
 
-def test_an_edge_over_its_floor_anchor_hangs_over_it(llm):
-    """ "over": true on a wall object's edge is the offline parser's "above the sofa"; on
-    an edge that cannot hang over anything it is refused, with one repair round."""
-
-    def over(reply, dependent="painting_0"):
-        for tree in reply["functional_trees"]:
-            for e in tree["edges"]:
-                if e["dependent"] == dependent:
-                    e["over"] = True
-
-    reply = edited(over)
-    validate_json(reply, reply_schema())
-    assert hierarchy_from_reply(reply).over == {"painting_0"}
-    assert hierarchy_from_reply(WALLS).over == set()
-    bad = edited(lambda r: over(r, "coffee_table_0"))  # it stands on the floor
-    with pytest.raises(HierarchyError, match="a node on a wall"):
-        hierarchy_from_reply(bad)
-    server, client = llm
-    server.replies += [ok(bad), ok(reply)]
-    h = hierarchy_from_llm(client, TEXT)
-    assert h.over == {"painting_0"} and "repair" in h.notes[-1]
-    not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update(over="yes"))
-    with pytest.raises(Exception, match="over"):
-        validate_json(not_bool, reply_schema())
+def _flag(reply: dict, key: str, dependent: str = "painting_0") -> None:
+    for tree in reply["functional_trees"]:
+        for e in tree["edges"]:
+            if e["dependent"] == dependent:
+                e[key] = True
 
 
-def test_an_edge_across_from_its_floor_anchor_hangs_across_the_room(llm):
-    """ "across": true is the offline parser's "a TV opposite the sofa"; with "over" on the
-    same edge, or on an edge that cannot hang, it is refused with one repair round."""
-
-    def flag(reply, key="across", dependent="painting_0"):
-        for tree in reply["functional_trees"]:
-            for e in tree["edges"]:
-                if e["dependent"] == dependent:
-                    e[key] = True
-
-    reply = edited(flag)
+@pytest.mark.parametrize(
+    "key, bad, error",
+    [
+        ("over", lambda r: _flag(r, "over", "coffee_table_0"), "a node on a wall"),  # floor
+        ("across", lambda r: (_flag(r, "across"), _flag(r, "over")), "both over and across"),
+    ],
+)
+def test_an_edge_hangs_over_or_across_from_its_floor_anchor(llm, key, bad, error):
+    """ "over": true on a wall object's edge is the offline parser's "above the sofa",
+    "across": true its "a TV opposite the sofa"; on an edge that cannot hang so (a floor
+    object; both at once) it is refused, with one repair round."""
+    reply = edited(lambda r: _flag(r, key))
     validate_json(reply, reply_schema())
     h = hierarchy_from_reply(reply)
-    assert h.across == {"painting_0"} and h.over == set()
-    both = edited(lambda r: (flag(r), flag(r, "over")))
-    with pytest.raises(HierarchyError, match="both over and across"):
-        hierarchy_from_reply(both)
+    assert getattr(h, key) == {"painting_0"}
+    assert (h.over | h.across) == {"painting_0"}
+    assert getattr(hierarchy_from_reply(WALLS), key) == set()
+    wrong = edited(bad)
+    with pytest.raises(HierarchyError, match=error):
+        hierarchy_from_reply(wrong)
     server, client = llm
-    server.replies += [ok(both), ok(reply)]
+    server.replies += [ok(wrong), ok(reply)]
     h = hierarchy_from_llm(client, TEXT)
-    assert h.across == {"painting_0"} and "repair" in h.notes[-1]
-    not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update(across="no"))
-    with pytest.raises(Exception, match="across"):
+    assert getattr(h, key) == {"painting_0"} and "repair" in h.notes[-1]
+    not_bool = edited(lambda r: r["functional_trees"][1]["edges"][0].update({key: "yes"}))
+    with pytest.raises(Exception, match=key):
         validate_json(not_bool, reply_schema())
