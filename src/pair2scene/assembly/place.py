@@ -210,9 +210,12 @@ class AssemblyConfig:
     category): facing it as often as they faced theirs (chairs their table), in front of
     it as often (a TV stand in front of the sofa), and no farther from it than they
     stood; candidates that do not are rejected (``faces_away``, ``not_in_front``,
-    ``far_from_anchor``) and an object none of whose candidates passes is dropped. Only
-    for a model that draws in its anchors' frames (``draws_in_frames``; not the uniform
-    baseline). False takes whatever candidate the model draws and the other tests pass."""
+    ``far_from_anchor``) and an object none of whose candidates passes is dropped; a
+    wall object with a floor anchor hangs across the room from it as often as theirs did
+    (a TV facing the sofa; :meth:`~pair2scene.assembly.anchors.AnchorRules.across`), else
+    over it. Only for a model that draws in its anchors' frames (``draws_in_frames``; not
+    the uniform baseline). False takes whatever candidate the model draws and the other
+    tests pass, and tries a wall object's anchor's wall first."""
     spots: bool = True
     """Keep an object on a support where and how the training rooms' did, per dependent
     and support category (:class:`~pair2scene.assembly.anchors.SpotRules`): facing the
