@@ -75,13 +75,16 @@ def mount_order(
     anchor: OrientedBox | None = None,
     only: int | None = None,
     across: bool = False,
+    only_faced: bool = False,
 ) -> list[Wall]:
     """The walls to try for a mounted object, best first: ``only`` that wall (a hierarchy
     naming it); else, with a functional ``anchor`` (a floor object), the wall it stands
     against (a painting above the bed), then the walls it faces, then the rest; ``across``
     (the object hangs across the room from its anchor: a TV facing the sofa) the walls the
-    anchor faces first, then the one it stands against, then the rest. Without an anchor,
-    every wall in a random order weighted by length (a long wall holds more)."""
+    anchor faces first, then the one it stands against, then the rest, and with
+    ``only_faced`` (a hierarchy hanging it there) only the walls it faces, when it faces
+    any. Without an anchor, every wall in a random order weighted by length (a long wall
+    holds more)."""
     if only is not None:
         return [w for w in walls if w.index == only]
     keys = weighted_keys(rng, [max(w.length, 1e-3) for w in walls])
@@ -89,10 +92,12 @@ def mount_order(
     if anchor is None:
         return order
     contact = wall_contact(anchor, walls)
+    facing = {w.index: faced_by(w, anchor) for w in order}
     behind = [w for w in order if contact is not None and w.index == contact.wall]
-    faced = [w for w in order if w not in behind and faced_by(w, anchor)]
+    faced = [w for w in order if w not in behind and facing[w.index]]
     first = faced + behind if across else behind + faced
-    return first + [w for w in order if w not in behind and w not in faced]
+    out = first + [w for w in order if w not in behind and w not in faced]
+    return ([w for w in out if facing[w.index]] or out) if only_faced else out
 
 
 def hang(wall: Wall, along: float, z: float, size: np.ndarray) -> OrientedBox:

@@ -569,7 +569,6 @@ class Placer:
         across = set(hierarchy.across) | {  # mounted objects hung across from their anchor
             n.id for n in hierarchy.nodes
             if on_wall(hierarchy.support[n.id]) and n.id not in hierarchy.over
-            and n.id not in hierarchy.across
             and self._hangs_across(n, hierarchy.functional.get(n.id), nodes, seed, framed)
         }  # fmt: skip
         backed = {  # floor objects a painting or mirror hangs over: against a wall
@@ -650,8 +649,7 @@ class Placer:
             context.below_top = support.category in self.top_free
             if over is not None:
                 context.over = functional.box
-            if node.id in across and functional is not None:
-                context.across = functional.box
+            hung_across = None if node.id not in across or functional is None else functional.box
             ends = None  # the room's convex corners, when this object stands in one
             if (
                 on_floor_
@@ -676,6 +674,9 @@ class Placer:
                 context.wall = wall if framed and not mounted else None
                 context.mount = (wall if dressing is None else dressing.wall) if mounted else None
                 context.dressing = dressing
+                context.across = None  # tested only on a wall its anchor faces
+                if hung_across is not None and faced_by(context.mount, hung_across):
+                    context.across = hung_across
                 context.corner = None if ends is None or wall is None else ends[wall.index]
                 t0 = time.perf_counter()
                 if dressing is not None:  # curtains at a window: by rule
@@ -852,9 +853,7 @@ class Placer:
             return out
         anchor = None if query.functional is None else query.functional.box
         only = wall_index(support) if over is None else over
-        order = mount_order(walls, rng, anchor, only, across)
-        if only_faced and anchor is not None:
-            order = [w for w in order if faced_by(w, anchor)] or order
+        order = mount_order(walls, rng, anchor, only, across, only_faced)
         return [(replace(query, support=Anchor.wall(w.frame(room.height))), w) for w in order]
 
     def _settle_candidate(
@@ -911,9 +910,8 @@ class Placer:
             hung = hang_over(hung, ctx.mount, ctx.over)
         if not cfg.reject:
             return hung, None, False
-        if ctx.across is not None and faced_by(ctx.mount, ctx.across):
-            if not faces(ctx.across, hung):
-                return None, "not_in_front", False
+        if ctx.across is not None and not faces(ctx.across, hung):
+            return None, "not_in_front", False
         floor = _floor_boxes(ctx.placed, ctx.ids)
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
         if reason is None:
@@ -1056,8 +1054,9 @@ class _Context:
     over: OrientedBox | None = None
     """The floor object a mounted one hangs over (:func:`hang_over`; None: where drawn)."""
     across: OrientedBox | None = None
-    """The floor object a mounted one hangs across the room from (on a wall it faces, only
-    where it faces the object: ``not_in_front``); None: no such test."""
+    """The floor object a mounted one hangs across the room from, when it faces the wall
+    being tried (there, only where it faces the object: ``not_in_front``); None: no such
+    test."""
     spot: SpotCheck | None = None
     """Keeps the object at its spot on its support (None: no rule)."""
     wall: Wall | None = None

@@ -240,8 +240,9 @@ class Hierarchy:
                     raise HierarchyError(
                         f"{node_id!r} hangs {way} {anchor!r}, which must stand on the floor"
                     )
-        for node_id in sorted(self.over & self.across):
-            raise HierarchyError(f"{node_id!r} cannot hang both over and across from its anchor")
+        both = sorted(self.over & self.across)
+        if both:
+            raise HierarchyError(f"{both[0]!r} cannot hang both over and across from its anchor")
         return self
 
     # -- trees and order ------------------------------------------------------------------
