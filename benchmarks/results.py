@@ -128,6 +128,7 @@ LAYOUT = (
     ("navigation", "objects_reachable", "fronts reachable"),
     ("navigation", "doors_clear", "doors clear"),
     ("walls", "wall_objects_per_room", "wall objects / room"),
+    ("walls", "covered", "wall objects covered"),
     ("walls", "windows_per_room", "windows / room"),
 )
 """The realism measures real rooms get too (evaluate's ``layout``, ``navigation`` and

@@ -344,3 +344,70 @@ def test_without_anchor_rules_a_mounted_object_hangs_over_its_anchor_first():
         contact = wall_contact(by[chair.id].box, WALLS)
         if contact is not None:
             assert wall_index(by["television_0"].support) == contact.wall, seed
+
+
+def test_covered_share_is_the_part_of_the_face_something_in_front_hides():
+    from pair2scene.assembly.mounting import covered_share, covered_shares
+
+    tv = hang(WALLS[0], 0.0, 1.3, np.array([1.0, 0.05, 0.6]))  # x 1.5..2.5, z 1.0..1.6
+    box = lambda x, y, z, size=(0.5, 0.2, 0.6): OrientedBox.from_yaw([x, y, z], size, 0.0)  # noqa: E731
+    assert covered_share(tv, WALLS[0], box(2.0, 0.3, 1.0)) == pytest.approx(0.25)  # half x half
+    assert covered_share(tv, WALLS[0], box(2.0, 0.3, 1.3, (2, 0.2, 1))) == pytest.approx(1.0)
+    assert covered_share(tv, WALLS[0], box(2.0, 0.8, 1.3)) == 0.0  # too far in front
+    assert covered_share(tv, WALLS[0], box(3.0, 0.3, 1.3)) == 0.0  # beside it
+    assert covered_share(tv, WALLS[0], box(2.0, 0.3, 0.4)) == 0.0  # below it
+    many = [box(2.0, 0.3, 1.0), box(2.0, 0.8, 1.3), box(1.75, 0.1, 1.3)]
+    corners = np.stack([b.corners()[:, :2] for b in many])
+    shares = covered_shares(tv, WALLS[0], corners, [b.bottom for b in many], [b.top for b in many])
+    np.testing.assert_allclose(shares, [covered_share(tv, WALLS[0], b) for b in many])
+    assert shares[2] == pytest.approx(0.5)
+
+
+def _under_a_painting(width: float, seed: int):
+    """A vase placed on a dresser ``width`` wide standing against wall 0 under a small
+    painting hung just above it (both kept where they are)."""
+    from pair2scene.assembly.place import Placer
+    from pair2scene.assets.registry import generate
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.model import AssetRef, SceneObject, wall_support
+
+    h = Hierarchy("living_room")
+    dresser = h.add("dresser", "floor")
+    painting = h.add("painting", "wall")
+    vase = h.add("vase", dresser.id)
+    sizes = {dresser.id: [width, 0.45, 0.8], painting.id: [0.3, 0.03, 0.3],
+             vase.id: [0.15, 0.15, 0.3]}  # fmt: skip
+    assets = {n.id: generate(n.category, np.array(sizes[n.id]), 1) for n in h.nodes}
+    boxes = {
+        dresser.id: OrientedBox.from_yaw([2.0, 0.226, 0.4], sizes[dresser.id], 0.0),
+        painting.id: hang(WALLS[0], 0.0, 0.97, np.array(sizes[painting.id])),
+    }
+    supports = {dresser.id: "floor", painting.id: wall_support(0)}
+    keep = [SceneObject(i, assets[i].category, boxes[i], AssetRef("procedural", None, 0, 1),
+                        supports[i]) for i in boxes]  # fmt: skip
+    room = Room("living_room", SQUARE, 2.6)
+    placed = Placer(from_pretrained()).place(
+        h.validate(), room, seed=seed, keep=keep, keep_assets=assets, assets=assets
+    )
+    by = {o.id: o for o in placed.scene.objects}
+    return by[painting.id], by.get(vase.id), placed.stats.rejections
+
+
+def test_what_stands_on_furniture_keeps_clear_of_the_wall_object_above_it():
+    """On a wide dresser the vase stands beside the painting, not in front of it; on one
+    no wider than the painting every spot covers it, and the vase stands there all the
+    same rather than not at all."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.mounting import MAX_COVER, covered_share
+
+    covers = 0
+    for seed in range(4):
+        painting, vase, rejections = _under_a_painting(1.6, seed)
+        assert vase is not None, seed
+        assert covered_share(painting.box, WALLS[0], vase.box) <= MAX_COVER, seed
+        covers += rejections.get("covers", 0)
+    assert covers > 0  # some draws did land in front of it
+    painting, vase, rejections = _under_a_painting(0.3, 0)
+    assert vase is not None and rejections.get("covers", 0) > 0
+    assert covered_share(painting.box, WALLS[0], vase.box) > MAX_COVER

@@ -77,3 +77,17 @@ def test_wall_objects_over_doors_and_windows_are_counted_curtains_at_windows_are
     at = Scene("b", room, [_at_wall0("curtains_0", "curtains", 0.005, wall_support(0)),
                            _at_wall0("mirror_0", "mirror", 0.005, wall_support(0))])  # fmt: skip
     assert wall_report([at])["over_openings"]["count"] == [1, 2]  # the mirror
+
+
+def test_covered_counts_wall_objects_hidden_by_what_stands_in_front():
+    room = Room("living_room", SQUARE, 2.6)
+    vase = OrientedBox.from_yaw([2, 0.2, 1.5], [0.4, 0.2, 0.5], 0.0)  # in front of the face
+    scene = Scene("c", room, [
+        _at_wall0("painting_0", "painting", 0.005, wall_support(0)),
+        _at_wall0("curtains_0", "curtains", 0.005, wall_support(0)),  # hung behind it: left out
+        SceneObject("vase_0", "vase", vase, None, "dresser_0"),
+    ])  # fmt: skip
+    assert wall_report([scene])["covered"]["count"] == [1, 1]
+    far = SceneObject("vase_0", "vase", OrientedBox.from_yaw([2, 1.2, 1.5], [0.4, 0.2, 0.5]),
+                      None, "floor")  # fmt: skip
+    assert wall_report([Scene("d", room, [scene.objects[0], far])])["covered"]["count"] == [0, 1]

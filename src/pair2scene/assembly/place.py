@@ -51,6 +51,9 @@ from pair2scene.assembly.collision import (
 )
 from pair2scene.assembly.mounting import (
     HANGS_OVER,
+    MAX_COVER,
+    covered_share,
+    covered_shares,
     dress_window,
     fitted_dressing,
     hang_over,
@@ -533,6 +536,9 @@ class Placer:
         world = MeshWorld(cfg.tolerances)
         placed: dict[str, _Placed] = {}
         objects: list[SceneObject] = []
+        room_walls = {w.index: w for w in walls_of(room.floor_polygon)}
+        hung: set[str] = set()  # ids of the placed objects on a wall
+        shown: list[tuple[OrientedBox, Wall]] = []  # those nothing may cover (not curtains)
         for obj in keep or []:
             asset = keep_assets[obj.id]
             shape = Shape(asset)
@@ -540,6 +546,11 @@ class Placer:
             world.add(obj.id, shape)
             placed[obj.id] = _Placed(obj.box, asset)
             objects.append(obj)
+            if on_wall(obj.support):
+                hung.add(obj.id)
+                wall = room_walls.get(wall_index(obj.support))
+                if wall is not None and obj.category not in WINDOW_DRESSINGS:
+                    shown.append((obj.box, wall))
         guard = None
         if cfg.navigable and cfg.reject:
             guard = FloorGuard.for_room(room, config=cfg.navigation)
@@ -647,6 +658,10 @@ class Placer:
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
+            if mounted and node.category not in WINDOW_DRESSINGS:
+                context.standing = _standing([placed[i].box for i in ids if i not in hung])
+            elif not mounted:
+                context.shown = shown
             if over is not None:
                 context.over = functional.box
             hung_across = None if node.id not in across or functional is None else functional.box
@@ -668,6 +683,7 @@ class Placer:
             give_up = math.inf if give_up is None else give_up  # (None: never)
             missed = 0  # candidates rejected for want of room
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
+            covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
                 dressing = wall if isinstance(wall, _Dressing) else None
@@ -709,6 +725,8 @@ class Placer:
                         settled, reason, moved = self._settle_candidate(tried_box, context)
                         if reason is None:
                             break
+                        if reason == "covers" and covering is None:
+                            covering = (tried + index, settled, moved)
                         if corner is not None:
                             misses = context.corner_misses
                             misses[corner] = misses.get(corner, 0) + 1
@@ -731,12 +749,18 @@ class Placer:
             if accepted is None and strays:  # the model's draws all off the spot: move some
                 t0 = time.perf_counter()
                 for box in strays:
-                    settled, _, _ = self._settle_candidate(spot.onto(box), context)
-                    if settled is not None:
+                    settled, why, _ = self._settle_candidate(spot.onto(box), context)
+                    if why is None:
                         accepted = (tried, settled)
                         stats.repaired += 1
                         break
+                    if why == "covers" and covering is None:
+                        covering = (tried, settled, True)
                 timer["collision"] += time.perf_counter() - t0
+            if accepted is None and covering is not None:  # better than not there at all
+                index, settled, moved = covering
+                accepted = (index, settled)
+                stats.repaired += int(moved)
             for reason, count in own.items():
                 rejections[reason] = rejections.get(reason, 0) + count
             if accepted is None:
@@ -753,8 +777,11 @@ class Placer:
             support_id = item.support
             if mounted:
                 support_id = wall_support(context.mount.index)
+                hung.add(node.id)
                 if context.dressing is not None:
                     dressed.add(context.dressing.window)
+                elif node.category not in WINDOW_DRESSINGS:
+                    shown.append((box, context.mount))
             shape.set_pose(box.rotation, box.center)
             world.add(node.id, shape)
             placed[node.id] = _Placed(box, asset)
@@ -877,6 +904,8 @@ class Placer:
             reason, hits = self._blocked(rested, ctx)
             if reason is None:
                 return rested, None, moved
+            if reason == "covers":  # the placer keeps it when nothing better comes
+                return rested, reason, moved
             if reason not in ("collision", "door", "wall") or attempt == cfg.push_attempts:
                 return None, reason, moved
             if reason == "wall":  # back into the room, as a floor object would be
@@ -914,6 +943,10 @@ class Placer:
             return None, "not_in_front", False
         floor = _floor_boxes(ctx.placed, ctx.ids)
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
+        if reason is None and ctx.standing is not None:
+            shares = covered_shares(hung, ctx.mount, *ctx.standing)
+            if (shares > MAX_COVER).any():
+                reason = "hidden"  # behind what stands in front of it (a vase, a lamp)
         if reason is None:
             reason, _ = self._blocked(hung, ctx)
         return (None, reason, False) if reason is not None else (hung, None, False)
@@ -992,7 +1025,10 @@ class Placer:
             if colliding:
                 return "collision", colliding
         if ctx.support == FLOOR and ctx.guard is not None and ctx.guard.blocks(box):
-            return "blocks_path", []  # last: only candidates that passed the rest
+            return "blocks_path", []  # only candidates that passed the rest
+        for face, wall in ctx.shown:  # last: a candidate that only covers may still stand
+            if covered_share(face, wall, box) > MAX_COVER:
+                return "covers", []
         return None, []
 
 
@@ -1074,6 +1110,15 @@ class _Context:
 
     dressing: _Dressing | None = None
     """Where curtains or blinds hang (None: not a window dressing)."""
+    shown: list = field(default_factory=list)
+    """(box, wall) of the wall objects placed so far that must stay in view (curtains and
+    blinds excepted): a candidate covering more than :data:`MAX_COVER` of one's face is
+    rejected (``covers``), and kept only when none of the object's candidates does
+    better."""
+    standing: tuple | None = None
+    """A mounted object's: the corners seen from above (M, 8, 2), bottoms and tops (M,)
+    of what stands in the room (everything placed but wall objects); a candidate more
+    than :data:`MAX_COVER` of whose face they cover is ``hidden``."""
 
 
 @dataclass(frozen=True)
@@ -1089,6 +1134,14 @@ class _Dressing:
 FLOOR_BOX_BOTTOM_M = 0.05
 """An object whose bottom is this low stands on the floor (what a mounted object may hang
 behind or above)."""
+
+
+def _standing(boxes: list[OrientedBox]) -> tuple | None:
+    """:attr:`_Context.standing` of ``boxes`` (None: none)."""
+    if not boxes:
+        return None
+    corners = np.stack([b.corners()[:, :2] for b in boxes])
+    return corners, np.array([b.bottom for b in boxes]), np.array([b.top for b in boxes])
 
 
 def _floor_boxes(placed: dict[str, _Placed], ids=None) -> list[OrientedBox]:

@@ -12,6 +12,10 @@ notices. Per set of rooms:
 - ``over_openings``: the share of those that cover a door or a window on their wall
   (their extent along the wall and in height overlapping the opening's; curtains and
   blinds at a window are not counted: that is where they hang);
+- ``covered``: the share of those (curtains and blinds left out) more than
+  :data:`~pair2scene.assembly.mounting.MAX_COVER` of whose face something standing within
+  :data:`~pair2scene.assembly.mounting.COVER_DEPTH_M` in front of it covers (a vase on
+  the sideboard in front of a television; :func:`~pair2scene.assembly.mounting.covered_share`);
 - ``windows_per_room``: the room's windows per room;
 - ``wall_share/<category>``: that category's share of all the rooms' objects (the share
   a category KL sees; structure and parts left out of both counts).
@@ -24,7 +28,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from pair2scene.assembly.mounting import wall_openings
+import numpy as np
+
+from pair2scene.assembly.mounting import MAX_COVER, covered_shares, wall_openings
 from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.wall_objects import hung_on
 from pair2scene.metrics.layout import counted, stat
@@ -60,17 +66,26 @@ def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
     kept = [[o for o in s.objects if counted(o)] for s in scenes]
     cats = [[o.category for o in row] for row in kept]
     total = sum(len(c) for c in cats)
-    on_walls = over = 0
+    on_walls = over = faces = covered = 0
     for scene, row in zip(scenes, kept, strict=True):
         walls = walls_of(scene.room.floor_polygon)
-        for o in row:
-            wall = hung_on(o, walls)
-            if wall is not None:
-                on_walls += 1
-                over += covers_opening(o, wall, scene.room)
+        hung = [(o, hung_on(o, walls)) for o in row]
+        standing = [o.box for o, wall in hung if wall is None]
+        corners = np.array([b.corners()[:, :2] for b in standing]).reshape(-1, 8, 2)
+        bottoms, tops = [b.bottom for b in standing], [b.top for b in standing]
+        for o, wall in hung:
+            if wall is None:
+                continue
+            on_walls += 1
+            over += covers_opening(o, wall, scene.room)
+            if o.category not in WINDOW_DRESSINGS:
+                faces += 1
+                shares = covered_shares(o.box, wall, corners, bottoms, tops)
+                covered += bool((shares > MAX_COVER).any())
     out = {
         "wall_objects_per_room": stat(on_walls, rooms, rooms),
         "over_openings": stat(over, on_walls, rooms),
+        "covered": stat(covered, faces, rooms),
         "windows_per_room": stat(sum(len(s.room.windows) for s in scenes), rooms, rooms),
     }
     for category in WALL_CATEGORIES:
