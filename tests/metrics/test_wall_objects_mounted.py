@@ -91,3 +91,13 @@ def test_covered_counts_wall_objects_hidden_by_what_stands_in_front():
     far = SceneObject("vase_0", "vase", OrientedBox.from_yaw([2, 1.2, 1.5], [0.4, 0.2, 0.5]),
                       None, "floor")  # fmt: skip
     assert wall_report([Scene("d", room, [scene.objects[0], far])])["covered"]["count"] == [0, 1]
+
+
+def test_what_rests_on_a_wall_object_does_not_cover_it():
+    room = Room("bathroom", SQUARE, 2.6)
+    rail = _at_wall0("towel_holder_0", "towel_holder", 0.005, wall_support(0))
+    towel = SceneObject("towel_0", "towel", OrientedBox.from_yaw([2, 0.05, 1.4], [0.5, 0.05, 0.6]),
+                        None, "towel_holder_0")  # fmt: skip
+    assert wall_report([Scene("t", room, [rail, towel])])["covered"]["count"] == [0, 1]
+    towel = SceneObject(towel.id, towel.category, towel.box, None, "floor")  # not on it
+    assert wall_report([Scene("t", room, [rail, towel])])["covered"]["count"] == [1, 1]

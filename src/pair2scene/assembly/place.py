@@ -538,7 +538,7 @@ class Placer:
         objects: list[SceneObject] = []
         room_walls = {w.index: w for w in walls_of(room.floor_polygon)}
         hung: set[str] = set()  # ids of the placed objects on a wall
-        shown: list[tuple[OrientedBox, Wall]] = []  # those nothing may cover (not curtains)
+        shown: list[tuple[str, OrientedBox, Wall]] = []  # those nothing may cover (not curtains)
         for obj in keep or []:
             asset = keep_assets[obj.id]
             shape = Shape(asset)
@@ -550,7 +550,7 @@ class Placer:
                 hung.add(obj.id)
                 wall = room_walls.get(wall_index(obj.support))
                 if wall is not None and obj.category not in WINDOW_DRESSINGS:
-                    shown.append((obj.box, wall))
+                    shown.append((obj.id, obj.box, wall))
         guard = None
         if cfg.navigable and cfg.reject:
             guard = FloorGuard.for_room(room, config=cfg.navigation)
@@ -781,7 +781,7 @@ class Placer:
                 if context.dressing is not None:
                     dressed.add(context.dressing.window)
                 elif node.category not in WINDOW_DRESSINGS:
-                    shown.append((box, context.mount))
+                    shown.append((node.id, box, context.mount))
             shape.set_pose(box.rotation, box.center)
             world.add(node.id, shape)
             placed[node.id] = _Placed(box, asset)
@@ -1026,9 +1026,9 @@ class Placer:
                 return "collision", colliding
         if ctx.support == FLOOR and ctx.guard is not None and ctx.guard.blocks(box):
             return "blocks_path", []  # only candidates that passed the rest
-        for face, wall in ctx.shown:  # last: a candidate that only covers may still stand
-            if covered_share(face, wall, box) > MAX_COVER:
-                return "covers", []
+        for oid, face, wall in ctx.shown:  # last: one that only covers may still stand
+            if oid != ctx.support and covered_share(face, wall, box) > MAX_COVER:
+                return "covers", []  # (what rests on it, a towel on its rail, does not)
         return None, []
 
 
@@ -1111,10 +1111,10 @@ class _Context:
     dressing: _Dressing | None = None
     """Where curtains or blinds hang (None: not a window dressing)."""
     shown: list = field(default_factory=list)
-    """(box, wall) of the wall objects placed so far that must stay in view (curtains and
-    blinds excepted): a candidate covering more than :data:`MAX_COVER` of one's face is
-    rejected (``covers``), and kept only when none of the object's candidates does
-    better."""
+    """(id, box, wall) of the wall objects placed so far that must stay in view (curtains
+    and blinds excepted): a candidate covering more than :data:`MAX_COVER` of one's face,
+    unless it rests on it, is rejected (``covers``), and kept only when none of the
+    object's candidates does better."""
     standing: tuple | None = None
     """A mounted object's: the corners seen from above (M, 8, 2), bottoms and tops (M,)
     of what stands in the room (everything placed but wall objects); a candidate more

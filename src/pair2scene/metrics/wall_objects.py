@@ -15,7 +15,8 @@ notices. Per set of rooms:
 - ``covered``: the share of those (curtains and blinds left out) more than
   :data:`~pair2scene.assembly.mounting.MAX_COVER` of whose face something standing within
   :data:`~pair2scene.assembly.mounting.COVER_DEPTH_M` in front of it covers (a vase on
-  the sideboard in front of a television; :func:`~pair2scene.assembly.mounting.covered_share`);
+  the sideboard in front of a television; :func:`~pair2scene.assembly.mounting.covered_share`;
+  what rests on it, a towel on its rail, does not count);
 - ``windows_per_room``: the room's windows per room;
 - ``wall_share/<category>``: that category's share of all the rooms' objects (the share
   a category KL sees; structure and parts left out of both counts).
@@ -70,9 +71,9 @@ def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
     for scene, row in zip(scenes, kept, strict=True):
         walls = walls_of(scene.room.floor_polygon)
         hung = [(o, hung_on(o, walls)) for o in row]
-        standing = [o.box for o, wall in hung if wall is None]
-        corners = np.array([b.corners()[:, :2] for b in standing]).reshape(-1, 8, 2)
-        bottoms, tops = [b.bottom for b in standing], [b.top for b in standing]
+        standing = [o for o, wall in hung if wall is None]
+        corners = np.array([o.box.corners()[:, :2] for o in standing]).reshape(-1, 8, 2)
+        bottoms, tops = [o.box.bottom for o in standing], [o.box.top for o in standing]
         for o, wall in hung:
             if wall is None:
                 continue
@@ -81,7 +82,8 @@ def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
             if o.category not in WINDOW_DRESSINGS:
                 faces += 1
                 shares = covered_shares(o.box, wall, corners, bottoms, tops)
-                covered += bool((shares > MAX_COVER).any())
+                on_it = np.array([s.support == o.id for s in standing], bool)
+                covered += bool((shares[~on_it] > MAX_COVER).any())
     out = {
         "wall_objects_per_room": stat(on_walls, rooms, rooms),
         "over_openings": stat(over, on_walls, rooms),
