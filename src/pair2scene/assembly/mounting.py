@@ -215,15 +215,21 @@ def covered_share(
     """Share of the face of ``hung`` (its extent along ``wall`` times its height) that
     ``other`` covers, seen from the room: 0 unless ``other`` stands within ``depth`` in
     front of that face."""
-    corners = other.corners()[None, :, :2]
-    return float(covered_shares(hung, wall, corners, [other.bottom], [other.top], depth)[0])
+    return float(covered_shares(hung, wall, *outlines([other]), depth)[0])
+
+
+def outlines(boxes: list[OrientedBox]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What :func:`covered_shares` takes of ``boxes``: their corners seen from above
+    (M, 8, 2), their bottoms and tops (M,)."""
+    corners = np.array([b.corners()[:, :2] for b in boxes]).reshape(-1, 8, 2)
+    return corners, np.array([b.bottom for b in boxes]), np.array([b.top for b in boxes])
 
 
 def covered_shares(
     hung: OrientedBox, wall: Wall, corners, bottoms, tops, depth: float = COVER_DEPTH_M
 ) -> np.ndarray:
-    """:func:`covered_share` of many others at once: their corners seen from above
-    (M, K, 2), their bottoms and tops (M,); -> (M,)."""
+    """:func:`covered_share` of many others at once, given by their :func:`outlines`;
+    -> (M,)."""
     mine = wall.local(hung.corners()[:, :2])
     theirs = wall.local(np.asarray(corners, float))  # (M, K, 2)
     lo = np.maximum(mine[:, 0].min(), theirs[..., 0].min(-1))

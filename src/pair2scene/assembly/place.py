@@ -60,6 +60,7 @@ from pair2scene.assembly.mounting import (
     mount,
     mount_blocked,
     mount_order,
+    outlines,
 )
 from pair2scene.assembly.records import Dropped, Moved
 from pair2scene.assembly.rest import (
@@ -659,7 +660,7 @@ class Placer:
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
             if mounted and node.category not in WINDOW_DRESSINGS:
-                context.standing = _standing([placed[i].box for i in ids if i not in hung])
+                context.standing = outlines([placed[i].box for i in ids if i not in hung])
             elif not mounted:
                 context.shown = shown
             if over is not None:
@@ -943,7 +944,7 @@ class Placer:
             return None, "not_in_front", False
         floor = _floor_boxes(ctx.placed, ctx.ids)
         reason = mount_blocked(hung, ctx.mount, ctx.room, dressing, floor)
-        if reason is None and ctx.standing is not None:
+        if reason is None and ctx.standing is not None:  # (None: curtains, blinds)
             shares = covered_shares(hung, ctx.mount, *ctx.standing)
             if (shares > MAX_COVER).any():
                 reason = "hidden"  # behind what stands in front of it (a vase, a lamp)
@@ -1116,9 +1117,9 @@ class _Context:
     unless it rests on it, is rejected (``covers``), and kept only when none of the
     object's candidates does better."""
     standing: tuple | None = None
-    """A mounted object's: the corners seen from above (M, 8, 2), bottoms and tops (M,)
-    of what stands in the room (everything placed but wall objects); a candidate more
-    than :data:`MAX_COVER` of whose face they cover is ``hidden``."""
+    """A mounted object's (not curtains or blinds): the :func:`~.mounting.outlines` of what
+    stands in the room (everything placed but wall objects); a candidate more than
+    :data:`MAX_COVER` of whose face they cover is ``hidden``."""
 
 
 @dataclass(frozen=True)
@@ -1134,14 +1135,6 @@ class _Dressing:
 FLOOR_BOX_BOTTOM_M = 0.05
 """An object whose bottom is this low stands on the floor (what a mounted object may hang
 behind or above)."""
-
-
-def _standing(boxes: list[OrientedBox]) -> tuple | None:
-    """:attr:`_Context.standing` of ``boxes`` (None: none)."""
-    if not boxes:
-        return None
-    corners = np.stack([b.corners()[:, :2] for b in boxes])
-    return corners, np.array([b.bottom for b in boxes]), np.array([b.top for b in boxes])
 
 
 def _floor_boxes(placed: dict[str, _Placed], ids=None) -> list[OrientedBox]:

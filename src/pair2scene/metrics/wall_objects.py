@@ -31,7 +31,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from pair2scene.assembly.mounting import MAX_COVER, covered_shares, wall_openings
+from pair2scene.assembly.mounting import MAX_COVER, covered_shares, outlines, wall_openings
 from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.wall_objects import hung_on
 from pair2scene.metrics.layout import counted, stat
@@ -72,8 +72,7 @@ def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
         walls = walls_of(scene.room.floor_polygon)
         hung = [(o, hung_on(o, walls)) for o in row]
         standing = [o for o, wall in hung if wall is None]
-        corners = np.array([o.box.corners()[:, :2] for o in standing]).reshape(-1, 8, 2)
-        bottoms, tops = [o.box.bottom for o in standing], [o.box.top for o in standing]
+        seen = outlines([o.box for o in standing])
         for o, wall in hung:
             if wall is None:
                 continue
@@ -81,7 +80,7 @@ def wall_report(scenes: Sequence[Scene]) -> dict[str, dict]:
             over += covers_opening(o, wall, scene.room)
             if o.category not in WINDOW_DRESSINGS:
                 faces += 1
-                shares = covered_shares(o.box, wall, corners, bottoms, tops)
+                shares = covered_shares(o.box, wall, *seen)
                 on_it = np.array([s.support == o.id for s in standing], bool)
                 covered += bool((shares[~on_it] > MAX_COVER).any())
     out = {
