@@ -131,20 +131,22 @@ def warm(tmp: Path, scenes: int):
 def encoder_batching(p2s, assets: list) -> tuple[int, float, float, bool]:
     """Point-MAE on the clouds of ``assets`` (the fit bedrooms'), one cloud at a time (as
     placement meets them) and all in batches of 64: (clouds, ms a cloud one at a time, ms
-    a cloud batched, whether both give the same bits)."""
+    a cloud batched, whether both give the same bits). The encoder is the numpy one
+    generation runs (:mod:`pair2scene.model.np_pointmae`)."""
     import numpy as np
-    import torch
 
-    from pair2scene.model.features import asset_cloud, encode_clouds
+    from pair2scene.model.features import asset_cloud
 
     model = p2s.model
     clouds = np.stack([asset_cloud(a, model.n_points) for a in assets])
     t0 = time.perf_counter()
-    one = [encode_clouds(model.encoder, clouds[i : i + 1])[0] for i in range(len(clouds))]
+    one = [model.point_net(clouds[i : i + 1])[0] for i in range(len(clouds))]
     t1 = time.perf_counter()
-    batched = encode_clouds(model.encoder, clouds)[0]
+    batched = np.concatenate(
+        [model.point_net(clouds[s : s + 64])[0] for s in range(0, len(clouds), 64)]
+    )
     t2 = time.perf_counter()
-    same = all(torch.equal(o[0], b) for o, b in zip(one, batched))
+    same = all(np.array_equal(o[0], b) for o, b in zip(one, batched))
     n = len(clouds)
     return n, 1000 * (t1 - t0) / n, 1000 * (t2 - t1) / n, same
 

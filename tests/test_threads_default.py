@@ -1,36 +1,49 @@
-"""Generation's torch threads: one per process unless asked (issue 22), same scenes."""
+"""Generation's threads (issue 22): the layout model's forward passes run numpy's BLAS on
+one thread whatever the machine or ``--threads`` (a BLAS rounds differently with its thread
+count), torch gets one thread unless asked, and the scenes are the same bytes."""
 
 from __future__ import annotations
 
-import pytest
-
-torch = pytest.importorskip("torch")
+from threadpoolctl import threadpool_info, threadpool_limits
 
 
-def test_one_thread_unless_asked():
+def _blas_threads() -> set[int]:
+    return {pool["num_threads"] for pool in threadpool_info() if pool["user_api"] == "blas"}
+
+
+def test_the_forward_passes_run_on_one_blas_thread():
+    from pair2scene.model.api import one_blas_thread
+
+    with threadpool_limits(limits=2, user_api="blas"):
+        with one_blas_thread():
+            assert _blas_threads() in (set(), {1})
+        assert _blas_threads() in (set(), {2})
+
+
+def test_torch_gets_one_thread_unless_asked():
+    import pytest
+
+    torch = pytest.importorskip("torch")
     from pair2scene.generate import set_threads
 
     before = torch.get_num_threads()
     try:
-        set_threads()
-        assert torch.get_num_threads() == 1
         set_threads(2)
         assert torch.get_num_threads() == 2
+        set_threads()
+        assert torch.get_num_threads() == 1
     finally:
         torch.set_num_threads(before)
 
 
-def test_the_thread_count_does_not_change_a_scene():
-    from pair2scene.generate import Pair2Scene, set_threads
+def test_the_blas_threads_do_not_change_a_scene():
+    from pair2scene.generate import Pair2Scene
     from pair2scene.io.scene_json import dumps_scene
 
-    before = torch.get_num_threads()
     p2s = Pair2Scene.from_pretrained()
-    try:
-        texts = []
-        for n in (1, 2):
-            set_threads(n)
+    texts = []
+    for n in (1, 2):
+        with threadpool_limits(limits=n, user_api="blas"):
+            p2s.model._tokens.clear()  # (encode again, on this many threads around it)
             texts.append(dumps_scene(p2s.generate(room="bedroom", seed=3).scene))
-        assert texts[0] == texts[1]
-    finally:
-        torch.set_num_threads(before)
+    assert texts[0] == texts[1]

@@ -20,6 +20,7 @@ written is dropped, exit 143).
 from __future__ import annotations
 
 import contextlib
+import sys
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, fields, is_dataclass, replace
@@ -346,16 +347,17 @@ def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -
 
 
 def set_threads(threads: int | None = None) -> None:
-    """Torch's CPU threads: ``threads``, or one. The layout model's forward passes are a
-    handful of small matrices: a second thread gains nothing on an idle machine and costs
-    a lot on a busy one (5 bedrooms with a test run beside them: 9.5-12.7 s with one
-    thread, 15.2-15.7 s with two). Parallelism comes from processes: run several generate
-    jobs side by side. The scenes are the same bytes whatever the thread count."""
-    import torch
-
+    """Torch's CPU threads, when torch is loaded: ``threads``, or one. Generation itself
+    needs no torch, and the layout model's forward passes always run numpy's BLAS on one
+    thread (:func:`pair2scene.model.api.one_blas_thread`), so that a scene's bytes do not
+    depend on the thread count or the machine's cores: they are a handful of small
+    matrices, where a second thread gains nothing on an idle machine and costs a lot on a
+    busy one. Parallelism comes from processes: run several generate jobs side by side."""
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")
-    torch.set_num_threads(threads or 1)
+    torch = sys.modules.get("torch")
+    if torch is not None:
+        torch.set_num_threads(threads or 1)
 
 
 def settle_scene(

@@ -18,9 +18,9 @@ and gravity the learned model gets; only where the candidates come from differs.
   no anchor frame on purpose (``query.wall`` and ``query.functional`` are ignored): a
   uniform draw in a wall's frame would already know that the object stands at a wall.
 
-Each call seeds a numpy generator with one integer drawn from the torch ``generator``, so
-the placer's seed decides every draw (same seed, same scene) and successive objects of a
-scene draw different numbers.
+Each call seeds a numpy generator with one integer drawn from the placement's
+``generator``, so the placer's seed decides every draw (same seed, same scene) and
+successive objects of a scene draw different numbers.
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ from abc import abstractmethod
 from pathlib import Path
 
 import numpy as np
-import torch
 
 from pair2scene.errors import UserError
 from pair2scene.model.api import PlacementModel, PlacementQuery, canonical_to_world
@@ -45,10 +44,10 @@ _EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts under a support's half-size."""
 
 
-def numpy_rng(generator: torch.Generator | None) -> np.random.Generator:
-    """A numpy generator seeded by one draw from ``generator`` (torch's global one when
-    None), so that the torch seed of a placement decides the baselines' draws too."""
-    seed = int(torch.randint(0, 2**62, (1,), generator=generator))
+def numpy_rng(generator: np.random.Generator | None) -> np.random.Generator:
+    """A generator seeded by one draw from ``generator`` (an unseeded one when None), so
+    that the seed of a placement decides the baselines' draws too."""
+    seed = int((generator or np.random.default_rng()).integers(0, 2**62))
     return np.random.default_rng(seed)
 
 
@@ -61,14 +60,18 @@ class _Sampler(PlacementModel):
         query: PlacementQuery,
         n: int,
         temperature: float,
-        generator: torch.Generator | None,
+        generator: np.random.Generator | None,
     ) -> tuple[np.ndarray, None]:
         """:meth:`sample`'s candidates (of the query's size); None: no region mass."""
         return self.sample(query, n, temperature, generator), None
 
     @abstractmethod
     def sample(
-        self, query: PlacementQuery, n: int, temperature: float, generator: torch.Generator | None
+        self,
+        query: PlacementQuery,
+        n: int,
+        temperature: float,
+        generator: np.random.Generator | None,
     ) -> np.ndarray:
         """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query."""
 
@@ -114,7 +117,7 @@ class GaussianPlacement(_Sampler):
         query: PlacementQuery,
         n: int = 256,
         temperature: float = 1.0,
-        generator: torch.Generator | None = None,
+        generator: np.random.Generator | None = None,
         keep_size: bool = True,
     ) -> np.ndarray:
         """``n`` candidate world boxes (n, 12) for one query; ``keep_size`` conditions on
@@ -165,7 +168,7 @@ class RandomPlacement(_Sampler):
         query: PlacementQuery,
         n: int = 256,
         temperature: float = 1.0,
-        generator: torch.Generator | None = None,
+        generator: np.random.Generator | None = None,
     ) -> np.ndarray:
         """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query."""
         del temperature  # nothing to sharpen

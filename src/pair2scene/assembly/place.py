@@ -112,6 +112,10 @@ CORNER_TRIES = 2
 """A corner where this many of an object's candidates did not pass is not tried again for
 it: what stands around it does not move while its candidates are tried, and in a crowded
 ``beyond`` room (320 objects) trying every candidate in both corners doubled the time."""
+PLACEMENT_STREAM = 0x9A1E
+"""Second word of the seed of a placement's generator (``[seed, PLACEMENT_STREAM]``):
+its draws are a stream of their own, apart from the asset draws seeded by
+:func:`~pair2scene.assets.identity.asset_seed` of the same scene seed."""
 SPOT_RETRIES = 8
 """Candidates rejected only for standing off their spot on the support that are moved
 onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
@@ -193,7 +197,7 @@ class AssemblyConfig:
     dropped took 28 s of 46 s, each trying all 256 candidates. Candidates rejected for
     other reasons (facing away from their anchor) do not count: such an object may pass
     at its 200th. The rest of its candidates are still drawn, not tried, so that an
-    object dropped either way leaves the torch generator as the full search does: the
+    object dropped either way leaves the placement's generator as the full search does: the
     objects after it are drawn the same. Fit scenes try every candidate; objects on
     supports and on walls have their own limit (``dense_give_up_support``)."""
     dense_give_up_support: int | None = 128
@@ -523,15 +527,13 @@ class Placer:
         where they are and the hierarchy's objects are placed around and on them.
         ``assets``: what :meth:`assets_for` gave for this hierarchy and seed (drawn here
         when None)."""
-        import torch
-
         from pair2scene.assets.registry import generate
         from pair2scene.model.api import Anchor, PlacementQuery
 
         cfg = self.config
         start = time.perf_counter()
         timer = {"model": 0.0, "assets": 0.0, "collision": 0.0}
-        generator = torch.Generator().manual_seed(seed)
+        generator = np.random.default_rng([seed, PLACEMENT_STREAM])
         kept = {o.id for o in keep or []}
         stats = AssemblyStats(requested=sum(1 for n in hierarchy.nodes if n.id not in kept))
         world = MeshWorld(cfg.tolerances)

@@ -123,6 +123,10 @@ def os_error_message(e: OSError) -> str:
     return f"{name}: {reason}"
 
 
+TORCH_HINT = "pip install torch==2.13.0 (the CPU build; pair2scene[model] pins it)"
+"""How to get torch, which only training, scoring and the learned metrics (FID, SCA) need."""
+
+
 def main(argv: list[str] | None = None) -> int:
     """Console entry point: maps user errors and errors of the operating system (a full
     disk, a missing permission) to one line and exit code 2."""
@@ -142,6 +146,12 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except OSError as e:
         print(error_line(os_error_message(e)), file=sys.stderr)
+        return 2
+    except ModuleNotFoundError as e:
+        if e.name != "torch":
+            raise
+        # Generation runs without torch; training, scoring and the learned metrics need it.
+        print(error_line(f"this needs torch, not installed here: {TORCH_HINT}"), file=sys.stderr)
         return 2
     except Exception as e:
         # Usage errors of the argument parser (click's or typer's own vendored copy,

@@ -96,8 +96,9 @@ def generate_command(
     threads: Annotated[
         int | None,
         typer.Option(
-            help=f"CPU threads for torch, 1 .. {MAX_THREADS} (default 1: run processes side by "
-            "side for more)."
+            help=f"CPU threads of torch where it is loaded, 1 .. {MAX_THREADS} (default 1). "
+            "The layout model runs without torch, on one thread, so that a scene's bytes do "
+            "not depend on the cores: run processes side by side for more scenes."
         ),
     ] = None,
     formats: Annotated[

@@ -3,11 +3,18 @@
 >>> from pair2scene.model import from_pretrained
 >>> model = from_pretrained()                      # the bundled default (cpu preset, full)
 >>> model.score("pairs/", split="val").nll         # mean NLL per tuple (nats)
->>> boxes = model.sample(query, n=256, temperature=0.8, generator=torch.Generator().manual_seed(0))
+>>> boxes = model.sample(query, n=256, temperature=0.8, generator=np.random.default_rng(0))
 
 :meth:`LayoutModel.sample` takes a :class:`PlacementQuery` (the dependent's category and
 size or asset, its support anchor and optional functional anchor as placed objects or the
 floor) and returns ``n`` candidate boxes in world coordinates, drawn from one forward pass.
+
+Sampling runs without torch: the checkpoint's weights go into numpy twins of the encoder
+and the predictor (:mod:`~pair2scene.model.np_pointmae`, :mod:`~pair2scene.model.np_layout`,
+equal to the torch networks to float32 rounding), so a generating process never imports
+torch (3.4 s of every start on a 2-core machine) and a forward pass is a few dozen numpy
+calls instead of torch operations at ~50 us each. Scoring (NLL of 3D-Pairs tuples) uses
+the torch network, built from the same weights on first use.
 """
 
 from __future__ import annotations
@@ -17,15 +24,28 @@ from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
-import torch
+from threadpoolctl import ThreadpoolController
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.curation.dataset import PairsDataset
 from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, frame_choice
-from pair2scene.model.checkpoint import Checkpoint, load_checkpoint
+from pair2scene.model.checkpoint import (
+    Checkpoint,
+    CheckpointState,
+    read_checkpoint,
+    torch_checkpoint,
+)
+from pair2scene.model.config import (
+    BOX_DIM,
+    FUNCTIONAL,
+    SUPPORT,
+    InvalidDistribution,
+    LayoutConfig,
+)
+from pair2scene.model.config import LayoutVariant as Variant
 from pair2scene.model.features import (
     TupleArrays,
     asset_cloud,
@@ -41,25 +61,20 @@ from pair2scene.model.features import (
     to_model_frame,
     wall_cloud,
 )
-from pair2scene.model.layout import (
-    FUNCTIONAL,
-    SUPPORT,
-    LayoutBatch,
-    LayoutPredictor,
-)
-from pair2scene.model.layout import LayoutVariant as Variant
-from pair2scene.model.mixture import (
-    BOX_DIM,
-    InvalidDistribution,
-    MixtureParams,
+from pair2scene.model.np_layout import (
+    MixtureArrays,
+    NumpyPredictor,
     Window,
     condition,
-    log_prob,
     sample,
     window_log_mass,
 )
+from pair2scene.model.np_pointmae import NumpyPointMAE, encoder_state
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, WALL
+
+if TYPE_CHECKING:
+    from pair2scene.model.layout import LayoutPredictor
 
 EVAL_BATCH = 256
 """Tuples per forward pass when scoring."""
@@ -77,7 +92,6 @@ class CloudInputs:
         return arrays.batch(rows, self.tokens, self.centers, self.points, with_target)
 
 
-@torch.no_grad()
 def stored_log_prob(
     model: LayoutPredictor,
     arrays: TupleArrays,
@@ -88,13 +102,18 @@ def stored_log_prob(
     """(N,) float64 log density of each tuple's stored canonical vector under ``model``
     (the scoring contract of :mod:`pair2scene.model.scoring`); with ``with_size`` also the
     (N,) log marginal density of the stored size."""
+    import torch
+
+    from pair2scene.model.mixture import MixtureParams, log_prob
+
     was_training = model.training
     model.eval()
     out, size = np.zeros(len(arrays)), np.zeros(len(arrays))
     for s in range(0, len(arrays), batch_size):
         rows = np.arange(s, min(s + batch_size, len(arrays)))
         batch = inputs.batch(arrays, rows)
-        params, _ = model(batch)
+        with torch.no_grad():
+            params, _ = model(batch)
         out[rows] = model.log_prob(params, batch.target).double().numpy()
         if with_size:
             marg = MixtureParams(params.logits, params.loc[..., 3:6], params.log_scale[..., 3:6])
@@ -182,46 +201,88 @@ class PlacementModel(Protocol):
         query: PlacementQuery,
         n: int,
         temperature: float,
-        generator: torch.Generator | None,
+        generator: np.random.Generator | None,
     ) -> tuple[np.ndarray, float | None]:
         """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query, each of
         the query's size, and the model's probability of a candidate over
         ``query.region`` (None for a sampler that ignores the region: its draws beyond
-        are simply rejected)."""
+        are simply rejected). Every random number comes from ``generator`` (None: a
+        fresh, unseeded one)."""
         ...
 
 
 class LayoutModel:
-    """A loaded checkpoint (predictor and encoder, eval mode) with scoring and sampling;
-    a :class:`PlacementModel`."""
+    """A loaded checkpoint with scoring and sampling; a :class:`PlacementModel`.
+
+    Built from a checkpoint read without torch (:func:`read_checkpoint`; what
+    :meth:`from_pretrained` does) or from a torch :class:`Checkpoint` (a network in memory,
+    as training has it). Sampling always runs on the numpy twins of its weights; the torch
+    network (:attr:`checkpoint`) is built when scoring first asks for it."""
 
     honours_temperature = True
     draws_in_frames = True
     """Whether this checkpoint has anchor frames (set per checkpoint when loaded)."""
 
-    def __init__(self, checkpoint: Checkpoint) -> None:
-        self.checkpoint = checkpoint
-        self.predictor = checkpoint.predictor.eval()
-        self.draws_in_frames = self.predictor.uses_frames
-        self._tokens: OrderedDict[bytes, tuple[torch.Tensor, torch.Tensor]] = OrderedDict()
+    def __init__(self, checkpoint: Checkpoint | CheckpointState) -> None:
+        if isinstance(checkpoint, CheckpointState):
+            self._read: CheckpointState | None = checkpoint
+            self._checkpoint: Checkpoint | None = None
+            spec = checkpoint.spec
+            self.config, encoder = spec.layout, spec.encoder
+            self._n_points, self.path = spec.n_points, checkpoint.path
+            state = checkpoint.state
+        else:
+            self._read, self._checkpoint = None, checkpoint
+            self.config, encoder = checkpoint.config, checkpoint.encoder_config
+            self._n_points, self.path = checkpoint.n_points, checkpoint.path
+            checkpoint.predictor.eval()
+            state = {
+                k: v.detach().cpu().float().numpy()
+                for k, v in checkpoint.predictor.state_dict().items()
+            }
+        self.net = NumpyPredictor(self.config, state)
+        self.point_net = (
+            NumpyPointMAE(encoder, encoder_state(state)) if self.config.uses_points else None
+        )
+        self.draws_in_frames = uses_frames(self.config)
+        self._tokens: OrderedDict[bytes, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
         self._asset_clouds: OrderedDict[int, tuple[Asset, np.ndarray]] = OrderedDict()
 
     @classmethod
     def from_pretrained(cls, path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
-        """The checkpoint folder ``path``; None: the bundled default model."""
-        return cls(load_checkpoint(path, device))
+        """The checkpoint folder ``path``; None: the bundled default model. Read without
+        torch; ``device`` is where the torch network goes when scoring builds it."""
+        model = cls(read_checkpoint(path))
+        model._device = device
+        return model
+
+    _device = "cpu"
+
+    @property
+    def checkpoint(self) -> Checkpoint:
+        """The torch network and what config.json says (built on first use)."""
+        if self._checkpoint is None:
+            assert self._read is not None
+            self._checkpoint = torch_checkpoint(self._read, self._device)
+        return self._checkpoint
+
+    @property
+    def predictor(self) -> LayoutPredictor:
+        """The torch predictor (eval mode), for scoring."""
+        return self.checkpoint.predictor
 
     @property
     def variant(self) -> Variant:
-        return self.checkpoint.config.variant
+        return self.config.variant
 
     @property
     def n_points(self) -> int:
-        return self.checkpoint.n_points
+        return self._n_points
 
     @property
     def encoder(self):
+        """The torch point encoder, for scoring."""
         return self.predictor.point_encoder
 
     # -- scoring -----------------------------------------------------------------------
@@ -240,11 +301,9 @@ class LayoutModel:
         # scoring asks for one and then the other.
         if self._last_scores is not None and self._last_scores[0] is data:
             return self._last_scores[1]
-        features = dataset_features(
-            data, self.variant, anchor_frames=self.checkpoint.config.anchor_frames
-        )
+        features = dataset_features(data, self.variant, anchor_frames=self.config.anchor_frames)
         inputs = CloudInputs()
-        if self.checkpoint.config.uses_points:
+        if self.config.uses_points:
             clouds = build_clouds(features.clouds, self.n_points, progress=progress)
             tokens, centers = encode_clouds(self.encoder, clouds, progress=progress)
             inputs = CloudInputs(tokens=tokens, centers=centers)
@@ -260,19 +319,28 @@ class LayoutModel:
 
     # -- sampling ------------------------------------------------------------------------
 
-    def _encode(self, cloud: np.ndarray) -> tuple[torch.Tensor, torch.Tensor]:
-        """Tokens (G, D) and centres (G, 3) of one normalised cloud, cached by content."""
-        key = hashlib.sha1(np.ascontiguousarray(cloud, np.float32).tobytes()).digest()
-        hit = self._tokens.get(key)
-        if hit is not None:
-            self._tokens.move_to_end(key)
-            return hit
-        tokens, centers = encode_clouds(self.encoder, cloud[None].astype(np.float32))
-        hit = (tokens[0], centers[0])
-        self._tokens[key] = hit
-        if len(self._tokens) > TOKEN_CACHE_ENTRIES:
-            self._tokens.popitem(last=False)
-        return hit
+    def _encode(self, clouds: Sequence[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Tokens (G, D) and centres (G, 3) of each normalised cloud, cached by content.
+
+        One cloud per encoder call, never batched with others: a BLAS may round a row of
+        a product differently with the matrix's height, and a cloud's tokens must not
+        depend on which clouds a process met before it (same seed, same scene, however
+        many scenes a process made first). Batching would gain little: each cloud is
+        already thousands of rows."""
+        out = []
+        for cloud in clouds:
+            key = hashlib.sha1(np.ascontiguousarray(cloud, np.float32).tobytes()).digest()
+            hit = self._tokens.get(key)
+            if hit is None:
+                with one_blas_thread():
+                    tokens, centers = self.point_net(np.asarray(cloud, np.float32)[None])
+                hit = self._tokens[key] = (tokens[0], centers[0])
+                if len(self._tokens) > TOKEN_CACHE_ENTRIES:
+                    self._tokens.popitem(last=False)
+            else:
+                self._tokens.move_to_end(key)
+            out.append(hit)
+        return out
 
     def _anchor_cloud(self, anchor: Anchor) -> np.ndarray:
         if anchor.cloud is not None:
@@ -303,23 +371,25 @@ class LayoutModel:
         (:func:`~pair2scene.curation.frames.frame_choice`) for a model with anchor frames,
         else its support's box."""
         sup = query.support
-        if not self.predictor.uses_frames:
+        if not self.draws_in_frames:
             return FRAME_SUPPORT, sup.box
         func = None if query.functional is None else query.functional.box
         return frame_choice(sup.box, sup.is_floor, query.wall, func)
 
-    def _query_batch(self, queries: Sequence[PlacementQuery]) -> tuple[LayoutBatch, np.ndarray]:
-        """A batch for ``queries`` and each query's model-frame factor (B, 3)."""
+    def _query_batch(self, queries: Sequence[PlacementQuery]) -> tuple[dict, np.ndarray]:
+        """The network's inputs for ``queries`` (:meth:`NumpyPredictor.forward`'s keyword
+        arguments) and each query's model-frame factor (B, 3)."""
         b = len(queries)
         is_global = self.variant is Variant.GLOBAL
-        frame_kinds = torch.zeros(b, dtype=torch.long)
-        frame_sizes = torch.ones(b, 3)
-        cats = torch.zeros(b, 3, dtype=torch.long)
-        scales = torch.ones(b, 3, 3)
-        boxes = torch.zeros(b, 2, BOX_DIM)
-        mask = torch.zeros(b, 3, dtype=torch.bool)
+        frame_kinds = np.zeros(b, dtype=np.int64)
+        frame_sizes = np.ones((b, 3), np.float32)
+        cats = np.zeros((b, 3), dtype=np.int64)
+        scales = np.ones((b, 3, 3), np.float32)
+        boxes = np.zeros((b, 2, BOX_DIM), np.float32)
+        mask = np.zeros((b, 3), dtype=bool)
         factors = np.ones((b, 3))
         clouds: list[list[np.ndarray | None]] = []
+        uses_points = self.config.uses_points
         for i, q in enumerate(queries):
             sup = q.support
             members: list[Anchor | None] = [None, sup, q.functional]
@@ -328,21 +398,21 @@ class LayoutModel:
                 if room is None:
                     raise ValueError("a global model needs the room's bounds (query.room)")
                 members = [None, Anchor.floor(room), None]
-                boxes[i, 0] = torch.from_numpy(room.to_vector())
+                boxes[i, 0] = room.to_vector()
             else:
                 kind, frame = self.frame(q)
                 factors[i] = frame_factor(frame.size)
                 frame_kinds[i] = kind
-                frame_sizes[i] = torch.tensor(frame.size, dtype=torch.float32)
+                frame_sizes[i] = frame.size
                 own = sup.box.in_frame_of(frame).to_vector()
                 if kind == FRAME_SUPPORT:
                     own = np.array([0, 0, 0, 2, 2, 2, 1, 0, 0, 0, 1, 0], dtype=np.float64)
-                boxes[i, 0] = torch.from_numpy(to_model_frame(own, factors[i]))
+                boxes[i, 0] = to_model_frame(own, factors[i])
                 if q.functional is not None:
                     rel = q.functional.box.in_frame_of(frame).to_vector()
-                    boxes[i, 1] = torch.from_numpy(to_model_frame(rel, factors[i]))
+                    boxes[i, 1] = to_model_frame(rel, factors[i])
             cats[i, 0] = category_index(q.category)
-            scales[i, 0] = torch.tensor(np.asarray(q.size, dtype=np.float32))
+            scales[i, 0] = np.asarray(q.size, dtype=np.float32)
             mask[i, 0] = True
             row_clouds: list[np.ndarray | None] = [None, None, None]
             for m in (SUPPORT, FUNCTIONAL):
@@ -350,11 +420,11 @@ class LayoutModel:
                 if a is None:
                     continue
                 cats[i, m] = category_index(a.category)
-                scales[i, m] = torch.tensor(a.box.size, dtype=torch.float32)
+                scales[i, m] = a.box.size
                 mask[i, m] = True
-                if self.checkpoint.config.uses_points:
+                if uses_points:
                     row_clouds[m] = self._anchor_cloud(a)
-            if self.checkpoint.config.uses_points:
+            if uses_points:
                 if q.cloud is not None:
                     row_clouds[0] = q.cloud
                 elif q.asset is not None:
@@ -362,32 +432,31 @@ class LayoutModel:
                 else:
                     row_clouds[0] = _procedural_cloud(q.category, q.size, self.n_points)
             clouds.append(row_clouds)
-        batch = LayoutBatch(cats, scales, boxes, mask.clone())
-        if self.predictor.uses_frames:
-            batch.frames, batch.frame_sizes = frame_kinds, frame_sizes
-        if self.checkpoint.config.uses_points:
-            enc = self.encoder.config
-            tokens = torch.zeros(b, 3, enc.n_groups, enc.width)
-            centers = torch.zeros(b, 3, enc.n_groups, 3)
-            for i, row in enumerate(clouds):
-                for m, cloud in enumerate(row):
-                    if cloud is not None:
-                        tokens[i, m], centers[i, m] = self._encode(cloud)
-            batch.point_tokens, batch.point_centers = tokens, centers
-        return batch, factors
+        inputs: dict = {
+            "categories": cats, "scales": scales, "anchor_boxes": boxes, "member_mask": mask,
+        }  # fmt: skip
+        if self.draws_in_frames:
+            inputs["frames"], inputs["frame_sizes"] = frame_kinds, frame_sizes
+        if uses_points:
+            enc = self.point_net.config
+            tokens = np.zeros((b, 3, enc.n_groups, enc.width), np.float32)
+            centers = np.zeros((b, 3, enc.n_groups, 3), np.float32)
+            where = [
+                (i, m) for i, row in enumerate(clouds) for m, c in enumerate(row) if c is not None
+            ]
+            encoded = self._encode([clouds[i][m] for i, m in where])
+            for (i, m), (t, c) in zip(where, encoded, strict=True):
+                tokens[i, m], centers[i, m] = t, c
+            inputs["point_tokens"], inputs["point_centers"] = tokens, centers
+        return inputs, factors
 
-    @torch.inference_mode()
-    def distribution(self, queries: Sequence[PlacementQuery]) -> tuple[MixtureParams, np.ndarray]:
-        """One forward pass: the mixture over each query's model-frame target, and the
-        model-frame factors (B, 3) that map its samples back (see :meth:`to_world`).
-
-        Runs in torch's inference mode (the same numbers as ``no_grad``, without its
-        per-operation bookkeeping: a few per cent of a fit scene), so the tensors it
-        returns are inference tensors: read them, or copy them (``clone()`` outside
-        inference mode) before changing them in place."""
-        batch, factors = self._query_batch(queries)
-        params, _ = self.predictor(batch)
-        return params, factors
+    def distribution(self, queries: Sequence[PlacementQuery]) -> tuple[MixtureArrays, np.ndarray]:
+        """One forward pass: the mixture over each query's model-frame target (float32
+        arrays), and the model-frame factors (B, 3) that map its samples back (see
+        :meth:`to_world`)."""
+        inputs, factors = self._query_batch(queries)
+        with one_blas_thread():
+            return self.net.forward(**inputs), factors
 
     def to_world(self, samples: np.ndarray, query: PlacementQuery, factor: np.ndarray):
         """Model-frame samples (..., 12) of ``query`` -> world box vectors (..., 12)
@@ -406,7 +475,7 @@ class LayoutModel:
         query: PlacementQuery,
         n: int = 256,
         temperature: float = 1.0,
-        generator: torch.Generator | None = None,
+        generator: np.random.Generator | None = None,
         keep_size: bool = True,
     ) -> np.ndarray:
         """``n`` candidate world boxes (n, 12) (centre, size, 6D) for one query.
@@ -422,36 +491,37 @@ class LayoutModel:
         query: PlacementQuery,
         n: int = 256,
         temperature: float = 1.0,
-        generator: torch.Generator | None = None,
+        generator: np.random.Generator | None = None,
         keep_size: bool = True,
     ) -> tuple[np.ndarray, float]:
         """:meth:`sample`'s candidates, and the probability that the model (at this
         temperature) puts a candidate's centre over ``query.region`` (1.0 without one):
-        its draws are confined there (:class:`~pair2scene.model.mixture.Window`), so
-        ``1 - p`` is the share it would have spent where the placer rejects them.
+        its draws are confined there (:class:`~pair2scene.model.np_layout.Window`), so
+        ``1 - p`` is the share it would have spent where the placer rejects them. The
+        draws come from ``generator`` (None: a fresh, unseeded one).
 
         A checkpoint whose distributions cannot be drawn from (finite but extreme
         weights) raises :class:`~pair2scene.model.mixture.InvalidDistribution`, a one-line
         :class:`~pair2scene.errors.UserError` naming its folder."""
-        with torch.inference_mode():  # (see distribution)
+        rng = np.random.default_rng() if generator is None else generator
+        with np.errstate(over="ignore", invalid="ignore"):  # (check_params tells of those)
             params, factors = self.distribution([query])
             if keep_size:
                 params = self.condition_on_size(params, [query], factors)
-            try:
-                window, mass = None, 1.0
-                if query.region is not None and temperature > 0:
-                    window = self._window(query, factors[0], params.loc.dtype)
-                    mass = float(window_log_mass(params, window, temperature).exp()[0])
-                y = sample(params, n, temperature, generator, window)[0]  # (n, 12) mixture space
-                x = self.predictor.from_mixture_space(y).double().numpy()
-                with np.errstate(over="ignore", invalid="ignore"):
-                    boxes = self.to_world(x, query, factors[0])
-                if not np.isfinite(boxes).all():
-                    raise InvalidDistribution("non-finite boxes")
-            except InvalidDistribution as e:
-                source = self.checkpoint.path or "the loaded checkpoint"
-                raise e.named(source) from None
-            return boxes, mass
+        try:
+            window, mass = None, 1.0
+            if query.region is not None and temperature > 0:
+                window = self._window(query, factors[0], params.loc.dtype)
+                mass = float(np.exp(window_log_mass(params, window, temperature)[0]))
+            y = sample(params, n, temperature, rng, window)[0]  # (n, 12) mixture space
+            x = self.net.from_mixture_space(y).astype(np.float64)
+            with np.errstate(over="ignore", invalid="ignore"):
+                boxes = self.to_world(x, query, factors[0])
+            if not np.isfinite(boxes).all():
+                raise InvalidDistribution("non-finite boxes")
+        except InvalidDistribution as e:
+            raise e.named(self.path or "the loaded checkpoint") from None
+        return boxes, mass
 
     def _window(self, query: PlacementQuery, factor: np.ndarray, dtype) -> Window:
         """``query.region``'s footprint as bounds on the mixture's centre x and y: the
@@ -465,20 +535,40 @@ class LayoutModel:
             local = (world - sup.center) @ sup.rotation / np.maximum(sup.half_size, 1e-9)
             world = local * factor
         low, high = world[:, :2].min(0), world[:, :2].max(0)
-        return Window(
-            [0, 1], torch.tensor(low[None], dtype=dtype), torch.tensor(high[None], dtype=dtype)
-        )
+        return Window([0, 1], low[None].astype(dtype), high[None].astype(dtype))
 
     def condition_on_size(
-        self, params: MixtureParams, queries: Sequence[PlacementQuery], factors: np.ndarray
-    ) -> MixtureParams:
+        self, params: MixtureArrays, queries: Sequence[PlacementQuery], factors: np.ndarray
+    ) -> MixtureArrays:
         """``params`` conditioned on each query's known size (in the model frame)."""
         sizes = np.stack([np.asarray(q.size, dtype=np.float64) for q in queries])  # (B, 3)
         if self.variant is not Variant.GLOBAL:
             half = np.stack([np.maximum(self.frame(q)[1].half_size, 1e-9) for q in queries])
             sizes = sizes / half * factors
-        log_size = torch.from_numpy(np.log(np.maximum(sizes, 1e-6))).to(params.loc.dtype)
+        log_size = np.log(np.maximum(sizes, 1e-6)).astype(params.loc.dtype)
         return condition(params, [3, 4, 5], log_size)
+
+
+_blas: ThreadpoolController | None = None
+
+
+def one_blas_thread():
+    """A context in which numpy's BLAS runs on one thread: the layout model's forward
+    passes run in one, whatever the machine or ``--threads``. A BLAS splits a product's
+    sums differently with its thread count (OpenBLAS: a (12, 128) @ (128, 384) product on
+    one thread and on two differ in the last bit), which would make a scene's bytes
+    depend on the machine's cores; a second thread gains ~5 % on these small products on an idle
+    machine and loses far more on a busy one."""
+    global _blas
+    if _blas is None:  # (after numpy has loaded its BLAS, so that the controller sees it)
+        _blas = ThreadpoolController()
+    return _blas.limit(limits=1, user_api="blas")
+
+
+def uses_frames(config: LayoutConfig) -> bool:
+    """Whether a network of ``config`` predicts tuples in their governing anchor's frame
+    (:attr:`~pair2scene.model.layout.LayoutPredictor.uses_frames`)."""
+    return config.anchor_frames and config.variant is not Variant.GLOBAL
 
 
 def _procedural_cloud(category: str, size, n: int) -> np.ndarray:

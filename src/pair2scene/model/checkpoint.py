@@ -29,17 +29,19 @@ weights are known to fit a model of bounded size)
    would change the network this version builds, so the weights would not mean what they
    meant. Unknown top-level keys are ignored (they describe, they do not build);
    ``training`` is free-form but must be an object.
-3. The parameter count of the network the config describes, counted on a skeleton built
-   on torch's meta device (no memory): at most :data:`MAX_PARAMETERS` (200 M; the
-   ``paper`` preset has ~55 M, ``cpu`` ~2.2 M), else refused naming the fields of the
-   largest part.
+3. The parameter count of the network the config describes, counted from the tensor
+   shapes it implies (:func:`expected_shapes`, no memory and no torch): at most
+   :data:`MAX_PARAMETERS` (200 M; the ``paper`` preset has ~55 M, ``cpu`` ~2.2 M), else
+   refused naming the fields of the largest part.
 4. ``weights``: a plain file name inside the folder (no path), a regular file (not a
    pipe or a device), a safetensors header whose tensor names, shapes and floating-point
-   dtypes are exactly the skeleton's (missing, extra or mis-shaped tensors are refused
+   dtypes are exactly those (missing, extra or mis-shaped tensors are refused
    before any tensor is read).
 5. The tensors: finite, and no weight beyond :data:`MAX_ABS_WEIGHT` (1e4; a trained
-   model's are O(1), the bundled one's largest is ~2) in magnitude. They are then loaded
-   into the skeleton (``assign=True``: no second copy, no initialisation).
+   model's are O(1), the bundled one's largest is ~2) in magnitude
+   (:func:`read_checkpoint`, numpy). :func:`load_checkpoint` then loads them into a
+   skeleton built on torch's meta device (``assign=True``: no initialisation); generation
+   uses them without torch (:mod:`pair2scene.model.runtime`).
 
 Sampling a loaded model guards the rest (:func:`pair2scene.model.mixture.check_params`):
 weights that pass 5 but still give NaN or absurd distributions are a one-line
@@ -94,21 +96,33 @@ import json
 import math
 import os
 import stat
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from enum import Enum
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import torch
+import numpy as np
 
 from pair2scene.curation.dataset import CATEGORY_VOCAB
+from pair2scene.curation.frames import FRAME_NAMES
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_bytes, atomic_write_text
 from pair2scene.io.jsondoc import read_json_document
-from pair2scene.model.features import MIN_ANCHOR_HALF_M
-from pair2scene.model.layout import LayoutConfig, LayoutPredictor, LayoutVariant
-from pair2scene.model.mixture import BOX_DIM, EntropyRegulariser, MixtureConfig
-from pair2scene.model.pointmae import PointMAEConfig, PointMAEEncoder
+from pair2scene.model.config import (
+    BOX_DIM,
+    MIN_ANCHOR_HALF_M,
+    N_MEMBERS,
+    EntropyRegulariser,
+    LayoutConfig,
+    LayoutVariant,
+    MixtureConfig,
+    PointMAEConfig,
+)
+
+if TYPE_CHECKING:  # torch is imported where a network is built, not to read a checkpoint
+    import torch
+
+    from pair2scene.model.layout import LayoutPredictor
 
 FORMAT = "pair2scene.layout"
 VERSION = 1
@@ -478,8 +492,10 @@ any other part: ``layout.width``)."""
 @contextlib.contextmanager
 def _no_init() -> Iterator[None]:
     """``torch.nn.init``'s in-place initialisers as no-ops while a skeleton is built: its
-    weights are overwritten by the checkpoint's anyway, and on the meta device the first
-    of them costs ~1.1 s of torch's own set-up (issue 22)."""
+    weights are replaced by the checkpoint's, and initialising them anyway (the category
+    embedding's ``init.normal_`` alone) costs ~1.1 s of torch's own set-up (issue 22)."""
+    import torch
+
     names = [n for n in vars(torch.nn.init) if n.endswith("_") and not n.startswith("_")]
     saved = {n: getattr(torch.nn.init, n) for n in names}
     for n in names:
@@ -494,10 +510,100 @@ def _no_init() -> Iterator[None]:
 def skeleton(config: LayoutConfig, encoder: PointMAEConfig | None) -> LayoutPredictor:
     """The network ``config`` describes, on torch's meta device: shapes without memory,
     built without initialising what the weights replace (:func:`_no_init`)."""
+    import torch
+
+    from pair2scene.model.layout import LayoutPredictor
+    from pair2scene.model.pointmae import PointMAEEncoder
+
     with _no_init():
         with torch.device("meta"):
             point_encoder = PointMAEEncoder(encoder) if config.uses_points else None
         return LayoutPredictor(config, point_encoder, materialise=False)
+
+
+def _linear(name: str, d_in: int, d_out: int) -> dict[str, tuple[int, ...]]:
+    return {f"{name}.weight": (d_out, d_in), f"{name}.bias": (d_out,)}
+
+
+def _norm(name: str, width: int) -> dict[str, tuple[int, ...]]:
+    return {f"{name}.weight": (width,), f"{name}.bias": (width,)}
+
+
+def _mlp(name: str, d_in: int, d_hidden: int, d_out: int) -> dict[str, tuple[int, ...]]:
+    return {**_linear(f"{name}.fc", d_in, d_hidden), **_linear(f"{name}.proj", d_hidden, d_out)}
+
+
+def _attention(name: str, width: int) -> dict[str, tuple[int, ...]]:
+    return {
+        **_linear(f"{name}.q", width, width),
+        **_linear(f"{name}.kv", width, 2 * width),
+        **_linear(f"{name}.proj", width, width),
+    }
+
+
+def encoder_shapes(c: PointMAEConfig, prefix: str = "") -> dict[str, tuple[int, ...]]:
+    """The tensors (name -> shape, state-dict order) of a
+    :class:`~pair2scene.model.pointmae.PointMAEEncoder` of config ``c``, without torch."""
+    h, d = c.pointnet_hidden, c.width
+    out = {
+        **_linear("embed.first.0", 3, h),
+        **_norm("embed.first.1", h),
+        **_linear("embed.first.3", h, 2 * h),
+        **_linear("embed.second.0", 4 * h, 4 * h),
+        **_norm("embed.second.1", 4 * h),
+        **_linear("embed.second.3", 4 * h, d),
+        **_linear("pos_embed.0", 3, c.pos_hidden),
+        **_linear("pos_embed.2", c.pos_hidden, d),
+    }
+    hidden = int(d * c.mlp_ratio)
+    for i in range(c.depth):
+        b = f"transformer.blocks.{i}"
+        out |= {
+            **_norm(f"{b}.ln_1", d),
+            **_linear(f"{b}.attn.qkv", d, 3 * d),
+            **_linear(f"{b}.attn.proj", d, d),
+            **_norm(f"{b}.ln_2", d),
+            **_linear(f"{b}.mlp.0", d, hidden),
+            **_linear(f"{b}.mlp.2", hidden, d),
+        }
+    out |= _norm("transformer.ln_f", d)
+    return {prefix + k: v for k, v in out.items()}
+
+
+def expected_shapes(
+    config: LayoutConfig, encoder: PointMAEConfig | None
+) -> dict[str, tuple[int, ...]]:
+    """The tensors (name -> shape, in state-dict order) a checkpoint of ``config`` holds:
+    the :class:`~pair2scene.model.layout.LayoutPredictor`'s, its encoder's under
+    ``point_encoder.``. Worked out without torch, so that a checkpoint is checked and read
+    for generation without importing it (the tests hold it to :func:`skeleton`'s)."""
+    c, w = config, config.width
+    out: dict[str, tuple[int, ...]] = {
+        "member_queries": (N_MEMBERS, c.queries, w),
+        "unknown_box": (w,),  # (a module's own parameters come before its children's)
+        "category.weight": (c.n_categories, w),
+        **_mlp("size_mlp", 3, w, w),
+        **_mlp("box_mlp", BOX_DIM, w, w),
+        **_mlp("known_size_mlp", 3, w, w),
+    }
+    if c.uses_points:
+        out |= {
+            **_linear("point_proj", c.point_dim, w),
+            **_mlp("point_pos", 3, w, w),
+            **_norm("ln_points", w),
+        }
+    for i in range(c.depth):
+        b = f"blocks.{i}"
+        out |= {**_norm(f"{b}.ln_self", w), **_attention(f"{b}.self_attn", w)}
+        if c.uses_points:
+            out |= {**_norm(f"{b}.ln_cross", w), **_attention(f"{b}.cross_attn", w)}
+        out |= {**_norm(f"{b}.ln_mlp", w), **_mlp(f"{b}.mlp", w, c.mlp_ratio * w, w)}
+    out |= {**_norm("ln_f", w), **_mlp("head", c.queries * w, w, c.mixture.head_dim)}
+    if c.anchor_frames and c.variant is not LayoutVariant.GLOBAL:
+        out["frame.weight"] = (len(FRAME_NAMES), w)
+    if c.uses_points and encoder is not None:
+        out |= encoder_shapes(encoder, "point_encoder.")
+    return out
 
 
 def _field_value(spec: ModelConfig, field: str) -> Any:
@@ -508,13 +614,16 @@ def _field_value(spec: ModelConfig, field: str) -> Any:
     return value
 
 
-def check_parameter_count(net: LayoutPredictor, spec: ModelConfig, where: str | Path) -> int:
-    """The parameters of ``net`` (a :func:`skeleton`); over :data:`MAX_PARAMETERS` a
-    one-line :class:`UserError` naming the fields that size its largest part."""
+def check_parameter_count(
+    shapes: Mapping[str, tuple[int, ...]], spec: ModelConfig, where: str | Path
+) -> int:
+    """The parameters of a network of tensors ``shapes`` (:func:`expected_shapes`); over
+    :data:`MAX_PARAMETERS` a one-line :class:`UserError` naming the fields that size its
+    largest part."""
     parts: dict[str, int] = {}
-    for name, p in net.named_parameters():
+    for name, shape in shapes.items():
         top = name.split(".", 1)[0]
-        parts[top] = parts.get(top, 0) + p.numel()
+        parts[top] = parts.get(top, 0) + math.prod(shape)
     total = sum(parts.values())
     if total > MAX_PARAMETERS:
         largest = max(parts, key=parts.__getitem__)
@@ -549,7 +658,7 @@ def check_weights_header(path: Path, expected: dict[str, tuple[int, ...]]) -> No
 
     found: dict[str, tuple[tuple[int, ...], str]] = {}
     try:
-        with safe_open(str(path), framework="pt") as f:
+        with safe_open(str(path), framework="numpy") as f:
             for name in f.keys():  # noqa: SIM118  (safe_open is no mapping)
                 part = f.get_slice(name)
                 found[name] = (tuple(part.get_shape()), part.get_dtype())
@@ -636,39 +745,104 @@ def read_config(folder: str | Path) -> dict:
     return read_json_document(path, FORMAT, VERSION, "missing (not a layout-model checkpoint)")
 
 
-def load_checkpoint(folder: str | Path | None = None, device: str = "cpu") -> Checkpoint:
-    """The checkpoint in ``folder`` (None: the bundled default), in eval mode; checked as
-    the module docstring says, every problem a one-line :class:`UserError`."""
-    st = _safetensors()
+@dataclasses.dataclass
+class CheckpointState:
+    """A checkpoint read from its folder, checked, as numpy arrays: what both the torch
+    network (:func:`load_checkpoint`) and the torch-free inference
+    (:func:`pair2scene.model.runtime.load_runtime`) are built from."""
+
+    spec: ModelConfig
+    state: dict[str, np.ndarray]
+    """Every tensor by name, float32, in the header's order."""
+    path: Path
+
+
+def read_checkpoint(folder: str | Path | None = None) -> CheckpointState:
+    """The checkpoint in ``folder`` (None: the bundled default) read and checked as the
+    module docstring says (steps 1-5), without torch; every problem a one-line
+    :class:`UserError`."""
     folder = DEFAULT_DIR if folder is None else Path(folder)
     if folder == DEFAULT_DIR and not (folder / CONFIG_FILE).exists():
         raise UserError("no bundled default model in this installation")
     doc = read_config(folder)
     where = folder / CONFIG_FILE
     spec = check_model_config(doc, where)
-    predictor = skeleton(spec.layout, spec.encoder)
-    check_parameter_count(predictor, spec, f"{where}: bad model config")
+    expected = expected_shapes(spec.layout, spec.encoder)
+    check_parameter_count(expected, spec, f"{where}: bad model config")
     weights = folder / spec.weights
-    expected = {k: tuple(v.shape) for k, v in predictor.state_dict().items()}
     check_weights_header(weights, expected)
-    try:
-        state = st.load_file(str(weights), device="cpu")
-    except FileNotFoundError:
-        raise UserError(f"{weights}: missing") from None
-    except Exception as e:  # safetensors raises its own types for truncated/corrupt files
-        raise UserError(f"{weights}: not a readable safetensors file ({_one_line(e)})") from None
+    state = _read_tensors(weights)
     for name, value in state.items():
-        value = state[name] = value.float()
-        if not torch.isfinite(value).all():
+        if not np.isfinite(value).all():
             raise UserError(f"{weights}: non-finite weights in {name}")
-        if value.numel() and float(value.abs().max()) > MAX_ABS_WEIGHT:
+        if value.size and float(np.abs(value).max()) > MAX_ABS_WEIGHT:
             raise UserError(
-                f"{weights}: weights of magnitude {float(value.abs().max()):.3g} in {name}, "
+                f"{weights}: weights of magnitude {float(np.abs(value).max()):.3g} in {name}, "
                 f"beyond {MAX_ABS_WEIGHT:g}: not a trained model"
             )
+    return CheckpointState(spec, state, folder)
+
+
+def _read_tensors(path: Path) -> dict[str, np.ndarray]:
+    """The tensors of the safetensors file ``path`` (its header already checked) as
+    float32 arrays. numpy has no bfloat16: a BF16 tensor is widened from its bits (the
+    upper half of a float32)."""
+    from safetensors import safe_open
+
+    out: dict[str, np.ndarray] = {}
+    try:
+        with safe_open(str(path), framework="numpy") as f:
+            for name in f.keys():  # noqa: SIM118  (safe_open is no mapping)
+                if f.get_slice(name).get_dtype() == "BF16":
+                    out[name] = _bf16_tensor(path, name)
+                else:  # (a float64 beyond float32 becomes inf: refused as non-finite)
+                    with np.errstate(over="ignore"):
+                        out[name] = np.ascontiguousarray(f.get_tensor(name), dtype=np.float32)
+    except FileNotFoundError:
+        raise UserError(f"{path}: missing") from None
+    except UserError:
+        raise
+    except Exception as e:  # safetensors raises its own types for truncated/corrupt files
+        raise UserError(f"{path}: not a readable safetensors file ({_one_line(e)})") from None
+    return out
+
+
+def _bf16_tensor(path: Path, name: str) -> np.ndarray:
+    """The BF16 tensor ``name`` of ``path`` as float32, read by its header's offsets
+    (safetensors' layout: an 8-byte little-endian header length, the JSON header, the
+    data)."""
+    with open(path, "rb") as f:
+        size = int.from_bytes(f.read(8), "little")
+        header = json.loads(f.read(size))
+        entry = header[name]
+        start, end = entry["data_offsets"]
+        f.seek(8 + size + start)
+        raw = f.read(end - start)
+    shape = tuple(entry["shape"])
+    if len(raw) != 2 * math.prod(shape):
+        raise UserError(f"{path}: not a readable safetensors file (truncated tensor {name})")
+    bits = np.frombuffer(raw, dtype="<u2").astype(np.uint32) << 16
+    return bits.view(np.float32).reshape(shape)
+
+
+def load_checkpoint(folder: str | Path | None = None, device: str = "cpu") -> Checkpoint:
+    """The checkpoint in ``folder`` (None: the bundled default) as a torch network in eval
+    mode; checked as the module docstring says, every problem a one-line
+    :class:`UserError`."""
+    return torch_checkpoint(read_checkpoint(folder), device)
+
+
+def torch_checkpoint(read: CheckpointState, device: str = "cpu") -> Checkpoint:
+    """The torch network of a checkpoint :func:`read_checkpoint` read, in eval mode."""
+    import torch
+
+    spec, folder = read.spec, read.path
+    predictor = skeleton(spec.layout, spec.encoder)
+    state = {k: torch.from_numpy(v) for k, v in read.state.items()}
+    weights = folder / spec.weights
     try:
         predictor.load_state_dict(state, strict=True, assign=True)
-    except RuntimeError as e:  # (the header check above makes this unreachable)
+    except RuntimeError as e:  # (the header check makes this unreachable)
         raise UserError(f"{weights}: weights do not fit the config ({_one_line(e)})") from None
     left = [n for n, t in [*predictor.named_parameters(), *predictor.named_buffers()] if t.is_meta]
     if left:
@@ -695,6 +869,8 @@ def save_training_state(
 ) -> None:  # fmt: skip
     """``folder/<stem>.safetensors`` (weights, AdamW moments, ``extra`` tensors such as a
     generator's state) and ``folder/<stem>.json`` (``doc``), weights first, both atomic."""
+    import torch
+
     st = _safetensors()
     tensors = {f"model.{k}": v.detach().cpu().contiguous() for k, v in model.state_dict().items()}
     names = {id(q): n for n, q in model.named_parameters()}

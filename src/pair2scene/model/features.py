@@ -68,9 +68,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import torch
 
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
@@ -83,18 +83,23 @@ from pair2scene.curation.frames import (
     canonical_to_frame,
     tuple_frames,
 )
-from pair2scene.model.layout import (
+from pair2scene.model.config import (
+    BOX_DIM,
     FUNCTIONAL,
     MIN_ANCHOR_HALF_M,
+    MIN_HALF_DIAGONAL,
+    MIN_TARGET_SIZE,
     SUPPORT,
-    LayoutBatch,
     LayoutVariant,
 )
-from pair2scene.model.mixture import BOX_DIM, MIN_TARGET_SIZE
-from pair2scene.model.pointmae import normalise_points
 from pair2scene.progress import track
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, WALL
+
+if TYPE_CHECKING:  # torch is imported by what trains or scores, not by generation
+    import torch
+
+    from pair2scene.model.layout import LayoutBatch
 
 CANONICAL_EPS = 1e-9
 """The floor :meth:`OrientedBox.in_frame_of` puts on half-sizes (its ``eps``)."""
@@ -226,12 +231,11 @@ def wall_points(size: Sequence[float], n: int, rng: np.random.Generator | int) -
 
 
 def normalised(points: np.ndarray, size: Sequence[float]) -> np.ndarray:
-    """A local-frame cloud (N, 3) normalised by its box ``size`` (3,): (N, 3) float32."""
-    pts, _ = normalise_points(
-        torch.tensor(np.asarray(points), dtype=torch.float64),
-        torch.tensor(np.asarray(size), dtype=torch.float64),
-    )
-    return pts.numpy().astype(np.float32)
+    """A local-frame cloud (N, 3) normalised by its box ``size`` (3,): (N, 3) float32;
+    :func:`~pair2scene.model.pointmae.normalise_points` in float64 numpy."""
+    size = np.asarray(size, dtype=np.float64)
+    half_diag = max(0.5 * float(np.sqrt((size * size).sum())), MIN_HALF_DIAGONAL)
+    return (np.asarray(points, dtype=np.float64) / half_diag).astype(np.float32)
 
 
 def asset_cloud(asset: Asset, n: int, seed: int = CLOUD_SEED) -> np.ndarray:
@@ -332,6 +336,10 @@ class TupleArrays:
         tokens, centers : (C, G, D), (C, G, 3) the cloud table's cached encoder output;
         points : (C, N, 3) the raw normalised clouds (an encoder that trains needs them).
         """
+        import torch
+
+        from pair2scene.model.layout import LayoutBatch
+
         idx = torch.from_numpy(np.maximum(self.cloud_index[rows], 0))  # (B, 3)
         batch = LayoutBatch(
             categories=torch.from_numpy(self.categories[rows]),
@@ -531,7 +539,6 @@ def build_clouds(specs: Sequence[CloudSpec], n_points: int, progress: bool = Fal
     return out
 
 
-@torch.no_grad()
 def encode_clouds(
     encoder: torch.nn.Module,
     clouds: np.ndarray | torch.Tensor,
@@ -543,6 +550,8 @@ def encode_clouds(
     Deterministic (farthest point sampling starts at point 0); the encoder runs in eval
     mode and is left in the mode it was in.
     """
+    import torch
+
     was_training = encoder.training
     if was_training:  # (eval() walks every module: not for each of a scene's clouds)
         encoder.eval()
@@ -550,7 +559,8 @@ def encode_clouds(
     tokens, centers = [], []
     starts = range(0, len(clouds), batch_size)
     for s in track(starts, "encoding clouds", enabled=progress):
-        t, c = encoder(clouds[s : s + batch_size])
+        with torch.no_grad():
+            t, c = encoder(clouds[s : s + batch_size])
         tokens.append(t)
         centers.append(c)
     if was_training:

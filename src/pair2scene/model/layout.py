@@ -89,15 +89,13 @@ draws from torch's global generator.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
-from enum import Enum
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import torch
 import torch.nn.functional as F
 from torch import Tensor, nn
 
-from pair2scene.curation.dataset import CATEGORY_VOCAB
 from pair2scene.curation.frames import (  # noqa: F401  (re-exported)
     FRAME_FUNCTIONAL,
     FRAME_NAMES,
@@ -105,119 +103,26 @@ from pair2scene.curation.frames import (  # noqa: F401  (re-exported)
     FRAME_WALL,
 )
 from pair2scene.model import mixture
+from pair2scene.model.config import (  # noqa: F401  (re-exported)
+    DEPENDENT,
+    FLOOR_INDEX,
+    FUNCTIONAL,
+    HEAD_INIT_STD,
+    MIN_ANCHOR_HALF_M,
+    N_MEMBERS,
+    SUPPORT,
+    WALL_INDEX,
+    LayoutConfig,
+    LayoutVariant,
+)
 from pair2scene.model.mixture import (
     BOX_DIM,
     MIN_TARGET_SIZE,
     LossParts,
-    MixtureConfig,
     MixtureParams,
     mixture_params_from_head,
     target_from_box_vector,
 )
-
-FLOOR_INDEX = CATEGORY_VOCAB.index("floor")
-"""Category row of the floor (a support anchor that is the room)."""
-WALL_INDEX = CATEGORY_VOCAB.index("wall")
-"""Category row of a wall (the support anchor of a mounted object)."""
-N_MEMBERS = 3
-"""Tuple members, in this order: dependent, support anchor, functional anchor."""
-DEPENDENT, SUPPORT, FUNCTIONAL = 0, 1, 2
-MIN_ANCHOR_HALF_M = 0.05
-"""Floor on the support's half-size per axis in the model frame (metres), see
-:mod:`pair2scene.model.features`: canonical heights on 1.7 cm counter tops would reach
-the hundreds."""
-HEAD_INIT_STD = 0.02
-"""Std of the head's output layer at initialisation: raw outputs start near 0, i.e.
-uniform weights, locations near 0 and log scales near 0 (unit-scale logistics)."""
-
-
-class LayoutVariant(str, Enum):
-    """The method and its ablations (see the module docstring for what each is fed)."""
-
-    FULL = "full"
-    """The method: pretrained point encoder, relations to both anchors."""
-    CLASS_ONLY = "class-only"
-    """No geometry: category embeddings (and sizes) instead of point features."""
-    NO_PRETRAIN = "no-pretrain"
-    """As full, but the point encoder starts from random weights and trains."""
-    GLOBAL = "global"
-    """No relations: the dependent and the room only, world-frame targets."""
-
-
-@dataclass(frozen=True)
-class LayoutConfig:
-    """Hyper-parameters of :class:`LayoutPredictor`."""
-
-    width: int = 512
-    """D, the token width (paper: 512)."""
-    depth: int = 7
-    """Number of blocks (paper: 7)."""
-    heads: int = 8
-    """Attention heads in both attentions; must divide ``width``."""
-    queries: int = 4
-    """Q, learned query tokens per member (paper: 4)."""
-    mlp_ratio: int = 4
-    """Hidden width of each block's MLP, in multiples of ``width``."""
-    point_dim: int = 384
-    """Width of the point encoder's tokens (``PointMAEEncoder``'s D_enc); they are
-    projected to ``width``. Unused by ``class-only``."""
-    n_categories: int = len(CATEGORY_VOCAB)
-    """Rows of the category embedding: the canonical categories, then ``unknown``."""
-    dropout: float = 0.0
-    """Dropout on attention weights and residual branches. Draws from torch's global
-    generator (nn.Dropout has no other), so keep 0 where runs must be byte-identical."""
-    mixture: MixtureConfig = field(default_factory=MixtureConfig)
-    """The output distribution: K components (paper: 4) over the 12-d box, the log-scale
-    bounds, and lambda / sign of the entropy regulariser."""
-    variant: LayoutVariant = LayoutVariant.FULL
-    """Which network: the method or one of its ablations."""
-    finetune_encoder: bool = False
-    """``full`` / ``global``: also train the pretrained encoder (False keeps it frozen,
-    in eval mode, and lets the trainer cache its tokens). ``no-pretrain`` always trains
-    it."""
-    anchor_frames: bool = True
-    """Predict each tuple in the frame of the anchor that governs it (a floor object
-    against a wall in the wall's frame, one with a functional anchor in that anchor's
-    footprint frame; docs/model.md), with a learned embedding of which frame it is.
-    False: every tuple in its support's frame (the paper; checkpoints written before
-    issue 18). ``global`` ignores it."""
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "variant", LayoutVariant(self.variant))
-        if self.width % self.heads:
-            raise ValueError(f"heads ({self.heads}) must divide width ({self.width})")
-        if min(self.width, self.depth, self.heads, self.queries, self.mlp_ratio) < 1:
-            raise ValueError("width, depth, heads, queries and mlp_ratio must be >= 1")
-        if self.mixture.dim != BOX_DIM:
-            raise ValueError(
-                f"the layout head models a {BOX_DIM}-d box, got dim {self.mixture.dim}"
-            )
-
-    @property
-    def n_members(self) -> int:
-        """Members the network sees: 2 for ``global`` (dependent, room), else 3."""
-        return 2 if self.variant is LayoutVariant.GLOBAL else N_MEMBERS
-
-    @property
-    def uses_points(self) -> bool:
-        """Whether the network has a point encoder and cross-attention."""
-        return self.variant is not LayoutVariant.CLASS_ONLY
-
-    @property
-    def loads_pretrained_encoder(self) -> bool:
-        """Whether the trainer loads pretrained Point-MAE weights into the encoder."""
-        return self.variant in (LayoutVariant.FULL, LayoutVariant.GLOBAL)
-
-    @property
-    def trains_encoder(self) -> bool:
-        """Whether the encoder's weights get gradients (else frozen, eval mode)."""
-        if self.variant is LayoutVariant.NO_PRETRAIN:
-            return True
-        return self.uses_points and self.finetune_encoder
-
-    def with_variant(self, variant: LayoutVariant | str) -> LayoutConfig:
-        """The same sizes for another variant."""
-        return replace(self, variant=LayoutVariant(variant))
 
 
 @dataclass

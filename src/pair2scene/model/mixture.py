@@ -77,100 +77,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
-from enum import Enum
 from typing import NamedTuple
 
 import torch
 import torch.nn.functional as F
 from torch import Tensor
 
-from pair2scene.errors import UserError
-
-BOX_DIM = 12
-"""Dimension of the box target: centre 3, log size 3, 6D rotation 6."""
-
-MIN_TARGET_SIZE = 1e-6
-"""Canonical-frame sizes are clamped to this before the log: a zero extent (a flat
-decal stored without thickness) would give -inf. Real thin objects are ~1e-3 of
-a room's half-size, far above it."""
-
-GRAM_SCHMIDT_EPS = 1e-9
-"""Floor on vector norms in Gram-Schmidt, as in the numpy
-:func:`~pair2scene.scene.geometry.sixd_to_matrix`: keeps a degenerate 6D finite."""
-
-MAX_ABS_LOCATION = 1e6
-"""Largest component location :func:`sample` accepts, in the target's units (anchor
-half-sizes in the model frame; metres for ``global``): a million anchor half-sizes away
-is no placement any room holds, only what a broken checkpoint outputs (a trained one
-stays within a few dozen)."""
-
-
-class InvalidDistribution(UserError):
-    """Mixture parameters no draw can come from: non-finite or absurd locations,
-    non-finite scales, weights that are not a distribution (NaN, or every component at
-    zero). What a broken checkpoint (finite but extreme weights) produces; one line, not
-    torch's ``invalid multinomial distribution``."""
-
-    def __init__(self, problem: str, source: str | None = None) -> None:
-        self.problem, self.source = problem, source
-        who = "the model" if source is None else f"{source}: the checkpoint"
-        super().__init__(f"{who} produces invalid distributions ({problem})")
-
-    def named(self, source: object) -> InvalidDistribution:
-        """The same error naming where the model came from (a checkpoint folder)."""
-        return InvalidDistribution(self.problem, str(source))
-
-
-class EntropyRegulariser(str, Enum):
-    """Sign of the entropy term in :func:`loss` (see the module docstring)."""
-
-    BONUS = "bonus"
-    """Loss = NLL - lambda * H: keeps the mixture weights spread (no dead components)."""
-    PENALTY = "penalty"
-    """Loss = NLL + lambda * H: each prediction commits to few components."""
-
-
-@dataclass(frozen=True)
-class MixtureConfig:
-    """The mixture head's hyper-parameters; the layout model's config embeds one."""
-
-    num_components: int = 4
-    """K, the number of logistic components (the paper uses 4)."""
-    dim: int = BOX_DIM
-    """D, the dimension of the modelled vector (12 for a box, see the module docstring)."""
-    min_log_scale: float = -7.0
-    """Lower bound on each logistic's log scale: e^-7 ~ 1e-3 canonical units, i.e. half
-    a millimetre on a 1 m desk, finer than any annotation. Without a floor the NLL of
-    duplicated training boxes rewards collapsing a component onto them (scale -> 0)."""
-    max_log_scale: float = 5.0
-    """Upper bound: e^5 ~ 150 anchor half-sizes, wider than any room; it never binds in
-    practice and only keeps exp() finite for a diverging head."""
-    entropy_weight: float = 0.01
-    """lambda, the weight of the mixture-weight entropy term. The 12-d NLL is O(10) nats in size
-    per tuple and H <= log 4 ~ 1.4, so 0.01 is a nudge, not a competing objective; a
-    starting point to tune on val NLL."""
-    entropy_regulariser: EntropyRegulariser = EntropyRegulariser.BONUS
-    """Sign of the entropy term: BONUS keeps weights spread, PENALTY sharpens them."""
-    rotation_base: bool = True
-    """Model the rotation's second column relative to ``e_z x`` the first (see
-    :func:`rotation_offset`): exact for every upright object, whatever its yaw."""
-    yaw_modes: int = 4
-    """Q, the right-angle yaw turns each component comes in (module docstring, "Right-angle
-    yaw modes"): 4 = quarter turns, 1 = off (checkpoints written before it load with 1).
-    Only for the 12-d box (dim 12); one of 1, 2, 4."""
-
-    def __post_init__(self) -> None:
-        if self.yaw_modes not in (1, 2, 4):
-            raise ValueError(f"yaw_modes must be 1, 2 or 4, got {self.yaw_modes}")
-        if self.yaw_modes > 1 and self.dim != BOX_DIM:
-            raise ValueError(f"yaw_modes > 1 needs the {BOX_DIM}-d box, got dim {self.dim}")
-
-    @property
-    def head_dim(self) -> int:
-        """Width of the flat head output: K * (1 + 2D), plus K * Q turn logits for Q > 1."""
-        turns = self.yaw_modes if self.yaw_modes > 1 else 0
-        return self.num_components * (1 + 2 * self.dim + turns)
+from pair2scene.model.config import (  # noqa: F401  (re-exported)
+    BOX_DIM,
+    GRAM_SCHMIDT_EPS,
+    MAX_ABS_LOCATION,
+    MIN_TARGET_SIZE,
+    EntropyRegulariser,
+    InvalidDistribution,
+    MixtureConfig,
+)
 
 
 class MixtureParams(NamedTuple):

@@ -41,9 +41,7 @@ import torch.nn as nn
 import torch.nn.functional as F
 from torch import Tensor
 
-MIN_HALF_DIAGONAL = 1e-6
-"""Floor on the normalising half-diagonal (metres): a degenerate zero-size box
-would divide by zero; real assets are at least 1 mm along every axis."""
+from pair2scene.model.config import MIN_HALF_DIAGONAL, PointMAEConfig  # noqa: F401
 
 
 # -- normalisation ---------------------------------------------------------------------
@@ -152,70 +150,6 @@ def chamfer_l2(a: Tensor, b: Tensor) -> Tensor:
     d = ((a.unsqueeze(3) - b.unsqueeze(2)) ** 2).sum(-1)  # (B, M, k, k')
     per_set = d.min(dim=3).values.mean(-1) + d.min(dim=2).values.mean(-1)  # (B, M)
     return per_set.mean(-1)
-
-
-# -- config ----------------------------------------------------------------------------
-@dataclass(frozen=True)
-class PointMAEConfig:
-    """Hyper-parameters of the encoder and its pre-training decoder."""
-
-    n_points: int = 2048
-    """Points per cloud (``pair2scene.assets.pointcloud.DEFAULT_POINTS``); the encoder
-    accepts any N >= group_size, this is what pre-training samples."""
-    n_groups: int = 64
-    """G, groups (and tokens) per cloud, centres by farthest point sampling."""
-    group_size: int = 32
-    """k, points per group (nearest neighbours of the centre); 64 x 32 covers 2048 points."""
-    width: int = 256
-    """D, the token width of the encoder (and the decoder)."""
-    depth: int = 6
-    """Transformer blocks of the encoder."""
-    heads: int = 4
-    """Attention heads; must divide ``width``."""
-    mlp_ratio: float = 4.0
-    """Hidden width of each block's MLP, as a multiple of ``width``."""
-    pointnet_hidden: int = 128
-    """h of the mini-PointNet: 3 -> h -> 2h per point, then [point, group max] 4h -> 4h ->
-    D; 128 is Point-MAE's (3-128-256, 512-512-D)."""
-    pos_hidden: int = 128
-    """Hidden width of the positional-embedding MLP of the group centres."""
-    mask_ratio: float = 0.6
-    """Fraction of groups masked in pre-training (Point-MAE's 0.6)."""
-    decoder_depth: int = 2
-    """Transformer blocks of the pre-training decoder (Point-MAE uses 4 with depth 12)."""
-    decoder_heads: int = 4
-    """Attention heads of the decoder; must divide ``width``."""
-    dropout: float = 0.0
-    """Dropout in attention and MLPs; Point-MAE pre-trains without it."""
-
-    def __post_init__(self) -> None:
-        if self.width % self.heads or self.width % self.decoder_heads:
-            raise ValueError(f"width {self.width} must be divisible by the head counts")
-        if not 0 < self.group_size <= self.n_points or self.n_groups > self.n_points:
-            raise ValueError("need group_size <= n_points and n_groups <= n_points")
-        if not 0.0 <= self.mask_ratio < 1.0:
-            raise ValueError(f"mask_ratio must be in [0, 1), got {self.mask_ratio}")
-
-    @property
-    def n_masked(self) -> int:
-        """Groups masked per cloud in pre-training: floor(mask_ratio * G), as Point-MAE."""
-        return int(self.mask_ratio * self.n_groups)
-
-    @classmethod
-    def tiny(cls) -> PointMAEConfig:
-        """For tests: 256 points, 16 groups of 16, width 32, depth 2 (seconds on a CPU)."""
-        return cls(
-            n_points=256, n_groups=16, group_size=16, width=32, depth=2, heads=2,
-            pointnet_hidden=16, pos_hidden=16, decoder_depth=1, decoder_heads=2,
-        )  # fmt: skip
-
-    @classmethod
-    def point_mae(cls) -> PointMAEConfig:
-        """The original Point-MAE (ShapeNet) setting: 1024 points, 64 x 32, 384 x 12."""
-        return cls(
-            n_points=1024, n_groups=64, group_size=32, width=384, depth=12, heads=6,
-            pointnet_hidden=128, decoder_depth=4, decoder_heads=6,
-        )  # fmt: skip
 
 
 # -- building blocks -------------------------------------------------------------------
