@@ -91,7 +91,7 @@ def warm(tmp: Path, scenes: int):
     from pair2scene.generate import set_threads
     from pair2scene.io.export import write_scene_folder
 
-    set_threads()  # the CLI's default (one torch thread), as the commands below run
+    set_threads()  # the CLI's default, as the commands below run
     p2s = Pair2Scene.from_pretrained()
     p2s.generate(room="bedroom", seed=10_000)  # imports, first clouds
     fit = []
@@ -210,7 +210,8 @@ def main() -> int:
         SECTION,
         "",
         f"`python benchmarks/speed.py --runs {a.runs} --scenes {a.scenes}` on {machine()}, "
-        f"{dt.date.today().isoformat()}; torch threads at the default (1).",
+        f"{dt.date.today().isoformat()}; the layout model on its numpy twins, one BLAS "
+        "thread (generation imports no torch).",
         "",
         "| what | now | issue 22's target |",
         "|---|---|---|",
@@ -218,8 +219,8 @@ def main() -> int:
         f"{a.runs}; Python's bytecode cache on, as by default) | {first:.2f} s | <= 3 s |",
         f"| the same with `PYTHONDONTWRITEBYTECODE=1` (this machine's setting: every start "
         f"compiles the package from source) | {compiling:.2f} s |  |",
-        f"| a process that only imports torch, start to exit (median of {a.runs}) | "
-        f"{torch_alone:.2f} s |  |",
+        f"| a process that only imports torch, start to exit (median of {a.runs}; what "
+        f"a generating process no longer pays) | {torch_alone:.2f} s |  |",
         f"| a fit bedroom, folder written, warm (median of {a.scenes}) | {fit:.2f} s | "
         f"<= 0.25 s |",
         *(f"| a beyond bedroom of {n} objects ({beyond[n][1]:.0f} placed; median of 3) | "
@@ -242,10 +243,12 @@ def main() -> int:
         f"Point-MAE on those bedrooms' {enc[0]} asset clouds: {enc[1]:.1f} ms a cloud one "
         f"at a time, as placement meets them, against {enc[2]:.1f} ms batched 64 at a "
         f"time ({'the same bits' if enc[3] else 'NOT the same bits'}). "
-        + ("Batching a scene's clouds saves no time on one thread (the larger activations "
-           "leave the cache), so placement encodes each new cloud when it first needs it."
+        + ("Batching a scene's clouds saves no time on one thread, "
            if enc[2] >= 0.95 * enc[1] else
-           f"Batching would save {100 * (1 - enc[2] / enc[1]):.0f} % of the encoder's time."),
+           f"Batching would save {100 * (1 - enc[2] / enc[1]):.0f} % of the encoder's time, ")
+        + "but placement encodes each new cloud alone when it first needs it: a BLAS may "
+        "round a row of a product differently with the matrix's height, and a cloud's "
+        "tokens must not depend on the clouds a process met before it.",
     ]  # fmt: skip
     text = "\n".join(lines)
     print(text)

@@ -8,6 +8,7 @@ generated, without importing torch.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from enum import Enum
 
@@ -47,6 +48,15 @@ class InvalidDistribution(UserError):
     def named(self, source: object) -> InvalidDistribution:
         """The same error naming where the model came from (a checkpoint folder)."""
         return InvalidDistribution(self.problem, str(source))
+
+
+def check_draw(temperature: float, n: int) -> None:
+    """ValueError unless ``n >= 1`` draws at a finite ``temperature >= 0`` are asked (the
+    mixture samplers, torch's and numpy's)."""
+    if temperature < 0 or not math.isfinite(temperature):
+        raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
 
 
 class EntropyRegulariser(str, Enum):

@@ -91,6 +91,7 @@ from pair2scene.model.config import (  # noqa: F401  (re-exported)
     EntropyRegulariser,
     InvalidDistribution,
     MixtureConfig,
+    check_draw,
 )
 
 
@@ -394,10 +395,7 @@ def sample(
     non-finite, raise :class:`InvalidDistribution` (a :class:`~pair2scene.errors.UserError`:
     the checkpoint is broken), never torch's own error.
     """
-    if temperature < 0 or not math.isfinite(temperature):
-        raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n}")
+    check_draw(temperature, n)
     check_params(params)
     logits, loc, log_scale = params
     batch, (k, d) = logits.shape[:-1], loc.shape[-2:]

@@ -41,6 +41,7 @@ from pair2scene.model.config import (
     InvalidDistribution,
     LayoutConfig,
     LayoutVariant,
+    check_draw,
 )
 
 LAYER_NORM_EPS = 1e-5
@@ -711,10 +712,7 @@ def sample(
     inverse CDF. The uniforms are drawn in that dtype, not drawn in float64 and cast: a
     cast would round the top 2^-25 of [0, 1) up to 1, an infinite logistic draw.
     """
-    if temperature < 0 or not math.isfinite(temperature):
-        raise ValueError(f"temperature must be finite and >= 0, got {temperature}")
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n}")
+    check_draw(temperature, n)
     check_params(params)
     logits, loc, log_scale = params
     batch, (k, d) = logits.shape[:-1], loc.shape[-2:]
