@@ -1195,7 +1195,10 @@ def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
     first (the packing order that leaves room for the small ones), anchors still before
     their dependents: a topological order by (the support's turn, -footprint, sequence).
     Curtains and blinds hang first of all: they go where the windows are, and the
-    furniture then stands around them rather than in front of the window they need."""
+    furniture then stands around them rather than in front of the window they need.
+    Among the other wall objects, those with a functional anchor hang before those
+    without: a painting over the sofa has one stretch of wall, a mirror of no anchor any
+    free one (a mirror hung first over a sofa left its painting nowhere to go)."""
     import heapq
 
     sequence = hierarchy.sequence()
@@ -1214,8 +1217,10 @@ def placement_order(hierarchy: Hierarchy, assets: dict[str, Asset]) -> list:
     def key(i: int) -> tuple:
         item = sequence[i]
         size = assets[item.dependent.id].size
-        first = item.dependent.category in WINDOW_DRESSINGS and on_wall(item.support)
-        return (-1 if first else turn[item.support], -float(size[0] * size[1]), i)
+        hangs = on_wall(item.support)
+        first = hangs and item.dependent.category in WINDOW_DRESSINGS
+        free = hangs and not first and item.functional is None  # (any free stretch will do)
+        return (-1 if first else turn[item.support], free, -float(size[0] * size[1]), i)
 
     heap = [key(i) for i in range(len(sequence)) if blockers[i] == 0]
     heapq.heapify(heap)
