@@ -43,7 +43,6 @@ from pair2scene.model.config import (
     FUNCTIONAL,
     SUPPORT,
     InvalidDistribution,
-    LayoutConfig,
 )
 from pair2scene.model.config import LayoutVariant as Variant
 from pair2scene.model.features import (
@@ -223,7 +222,8 @@ class LayoutModel:
     draws_in_frames = True
     """Whether this checkpoint has anchor frames (set per checkpoint when loaded)."""
 
-    def __init__(self, checkpoint: Checkpoint | CheckpointState) -> None:
+    def __init__(self, checkpoint: Checkpoint | CheckpointState, device: str = "cpu") -> None:
+        self._device = device  # (where scoring builds the torch network from a read one)
         if isinstance(checkpoint, CheckpointState):
             self._read: CheckpointState | None = checkpoint
             self._checkpoint: Checkpoint | None = None
@@ -244,7 +244,7 @@ class LayoutModel:
         self.point_net = (
             NumpyPointMAE(encoder, encoder_state(state)) if self.config.uses_points else None
         )
-        self.draws_in_frames = uses_frames(self.config)
+        self.draws_in_frames = self.config.uses_frames
         self._tokens: OrderedDict[bytes, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
         self._asset_clouds: OrderedDict[int, tuple[Asset, np.ndarray]] = OrderedDict()
@@ -253,11 +253,7 @@ class LayoutModel:
     def from_pretrained(cls, path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
         """The checkpoint folder ``path``; None: the bundled default model. Read without
         torch; ``device`` is where the torch network goes when scoring builds it."""
-        model = cls(read_checkpoint(path))
-        model._device = device
-        return model
-
-    _device = "cpu"
+        return cls(read_checkpoint(path), device)
 
     @property
     def checkpoint(self) -> Checkpoint:
@@ -319,28 +315,25 @@ class LayoutModel:
 
     # -- sampling ------------------------------------------------------------------------
 
-    def _encode(self, clouds: Sequence[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Tokens (G, D) and centres (G, 3) of each normalised cloud, cached by content.
+    def _encode(self, cloud: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Tokens (G, D) and centres (G, 3) of one normalised cloud, cached by content.
 
         One cloud per encoder call, never batched with others: a BLAS may round a row of
         a product differently with the matrix's height, and a cloud's tokens must not
         depend on which clouds a process met before it (same seed, same scene, however
         many scenes a process made first). Batching would gain little: each cloud is
         already thousands of rows."""
-        out = []
-        for cloud in clouds:
-            key = hashlib.sha1(np.ascontiguousarray(cloud, np.float32).tobytes()).digest()
-            hit = self._tokens.get(key)
-            if hit is None:
-                with one_blas_thread():
-                    tokens, centers = self.point_net(np.asarray(cloud, np.float32)[None])
-                hit = self._tokens[key] = (tokens[0], centers[0])
-                if len(self._tokens) > TOKEN_CACHE_ENTRIES:
-                    self._tokens.popitem(last=False)
-            else:
-                self._tokens.move_to_end(key)
-            out.append(hit)
-        return out
+        key = hashlib.sha1(np.ascontiguousarray(cloud, np.float32).tobytes()).digest()
+        hit = self._tokens.get(key)
+        if hit is not None:
+            self._tokens.move_to_end(key)
+            return hit
+        with one_blas_thread():
+            tokens, centers = self.point_net(np.asarray(cloud, np.float32)[None])
+        hit = self._tokens[key] = (tokens[0], centers[0])
+        if len(self._tokens) > TOKEN_CACHE_ENTRIES:
+            self._tokens.popitem(last=False)
+        return hit
 
     def _anchor_cloud(self, anchor: Anchor) -> np.ndarray:
         if anchor.cloud is not None:
@@ -441,12 +434,10 @@ class LayoutModel:
             enc = self.point_net.config
             tokens = np.zeros((b, 3, enc.n_groups, enc.width), np.float32)
             centers = np.zeros((b, 3, enc.n_groups, 3), np.float32)
-            where = [
-                (i, m) for i, row in enumerate(clouds) for m, c in enumerate(row) if c is not None
-            ]
-            encoded = self._encode([clouds[i][m] for i, m in where])
-            for (i, m), (t, c) in zip(where, encoded, strict=True):
-                tokens[i, m], centers[i, m] = t, c
+            for i, row in enumerate(clouds):
+                for m, cloud in enumerate(row):
+                    if cloud is not None:
+                        tokens[i, m], centers[i, m] = self._encode(cloud)
             inputs["point_tokens"], inputs["point_centers"] = tokens, centers
         return inputs, factors
 
@@ -557,18 +548,12 @@ def one_blas_thread():
     passes run in one, whatever the machine or ``--threads``. A BLAS splits a product's
     sums differently with its thread count (OpenBLAS: a (12, 128) @ (128, 384) product on
     one thread and on two differ in the last bit), which would make a scene's bytes
-    depend on the machine's cores; a second thread gains ~5 % on these small products on an idle
-    machine and loses far more on a busy one."""
+    depend on the machine's cores; a second thread gains ~5 % on these small products on
+    an idle machine and loses far more on a busy one."""
     global _blas
     if _blas is None:  # (after numpy has loaded its BLAS, so that the controller sees it)
         _blas = ThreadpoolController()
     return _blas.limit(limits=1, user_api="blas")
-
-
-def uses_frames(config: LayoutConfig) -> bool:
-    """Whether a network of ``config`` predicts tuples in their governing anchor's frame
-    (:attr:`~pair2scene.model.layout.LayoutPredictor.uses_frames`)."""
-    return config.anchor_frames and config.variant is not Variant.GLOBAL
 
 
 def _procedural_cloud(category: str, size, n: int) -> np.ndarray:

@@ -41,7 +41,7 @@ weights are known to fit a model of bounded size)
    model's are O(1), the bundled one's largest is ~2) in magnitude
    (:func:`read_checkpoint`, numpy). :func:`load_checkpoint` then loads them into a
    skeleton built on torch's meta device (``assign=True``: no initialisation); generation
-   uses them without torch (:mod:`pair2scene.model.runtime`).
+   uses them without torch (:class:`~pair2scene.model.api.LayoutModel`'s numpy twins).
 
 Sampling a loaded model guards the rest (:func:`pair2scene.model.mixture.check_params`):
 weights that pass 5 but still give NaN or absurd distributions are a one-line
@@ -599,7 +599,7 @@ def expected_shapes(
             out |= {**_norm(f"{b}.ln_cross", w), **_attention(f"{b}.cross_attn", w)}
         out |= {**_norm(f"{b}.ln_mlp", w), **_mlp(f"{b}.mlp", w, c.mlp_ratio * w, w)}
     out |= {**_norm("ln_f", w), **_mlp("head", c.queries * w, w, c.mixture.head_dim)}
-    if c.anchor_frames and c.variant is not LayoutVariant.GLOBAL:
+    if c.uses_frames:
         out["frame.weight"] = (len(FRAME_NAMES), w)
     if c.uses_points and encoder is not None:
         out |= encoder_shapes(encoder, "point_encoder.")
@@ -749,7 +749,7 @@ def read_config(folder: str | Path) -> dict:
 class CheckpointState:
     """A checkpoint read from its folder, checked, as numpy arrays: what both the torch
     network (:func:`load_checkpoint`) and the torch-free inference
-    (:func:`pair2scene.model.runtime.load_runtime`) are built from."""
+    (:class:`~pair2scene.model.api.LayoutModel`'s numpy twins) are built from."""
 
     spec: ModelConfig
     state: dict[str, np.ndarray]

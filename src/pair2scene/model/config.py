@@ -1,9 +1,9 @@
 """The layout model's settings and constants, without torch.
 
 What both the torch modules (:mod:`~pair2scene.model.layout`, :mod:`~pair2scene.model.mixture`,
-:mod:`~pair2scene.model.pointmae`, which re-export these names) and the torch-free inference
-of :mod:`~pair2scene.model.runtime` need: a checkpoint's configuration is read, and a scene
-generated, without importing torch.
+:mod:`~pair2scene.model.pointmae`, which re-export these names) and their torch-free twins
+(:mod:`~pair2scene.model.np_layout`, :mod:`~pair2scene.model.np_pointmae`) need: a
+checkpoint's configuration is read, and a scene generated, without importing torch.
 """
 
 from __future__ import annotations
@@ -48,6 +48,18 @@ class InvalidDistribution(UserError):
     def named(self, source: object) -> InvalidDistribution:
         """The same error naming where the model came from (a checkpoint folder)."""
         return InvalidDistribution(self.problem, str(source))
+
+
+ROTATION_PAIRS = ((6, 7), (9, 10))
+"""Dims of the box target that turn as 2D vectors with the yaw: the rotation's first
+column (c0_x, c0_y) and the upright residual of the second (see
+:func:`~pair2scene.model.mixture.rotation_offset`)."""
+CONDITIONED_LOG_SCALE = -70.0
+"""The log scale conditioning gives the dims it fixes (``condition``, torch's and numpy's):
+samples reproduce the given values to within ~1e-30."""
+LAYER_NORM_EPS = 1e-5
+"""``torch.nn.LayerNorm``'s default eps, which every layer norm of the predictor and the
+encoder uses."""
 
 
 def check_draw(temperature: float, n: int) -> None:
@@ -192,6 +204,12 @@ class LayoutConfig:
     def n_members(self) -> int:
         """Members the network sees: 2 for ``global`` (dependent, room), else 3."""
         return 2 if self.variant is LayoutVariant.GLOBAL else N_MEMBERS
+
+    @property
+    def uses_frames(self) -> bool:
+        """Whether tuples are predicted in their governing anchor's frame (``global``
+        predicts in the world's, whatever ``anchor_frames`` says)."""
+        return self.anchor_frames and self.variant is not LayoutVariant.GLOBAL
 
     @property
     def uses_points(self) -> bool:

@@ -349,7 +349,7 @@ class LayoutPredictor(nn.Module):
     @property
     def uses_frames(self) -> bool:
         """Whether tuples are predicted in their governing anchor's frame."""
-        return self.config.anchor_frames and self.config.variant is not LayoutVariant.GLOBAL
+        return self.config.uses_frames
 
     def _init_weights(self, generator: torch.Generator) -> None:
         """Truncated normal weights with std 1/sqrt(fan_in) (unit gain), residual

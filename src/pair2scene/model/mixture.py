@@ -85,9 +85,11 @@ from torch import Tensor
 
 from pair2scene.model.config import (  # noqa: F401  (re-exported)
     BOX_DIM,
+    CONDITIONED_LOG_SCALE,
     GRAM_SCHMIDT_EPS,
     MAX_ABS_LOCATION,
     MIN_TARGET_SIZE,
+    ROTATION_PAIRS,
     EntropyRegulariser,
     InvalidDistribution,
     MixtureConfig,
@@ -159,11 +161,6 @@ def mixture_params_from_head(
     if turns:
         params = turned_components(params, turn.reshape(*batch, k, turns))
     return params
-
-
-ROTATION_PAIRS = ((6, 7), (9, 10))
-"""Dims of the box target that turn as 2D vectors with the yaw: the rotation's first
-column (c0_x, c0_y) and the upright residual of the second (see :func:`rotation_offset`)."""
 
 
 def turned_components(params: MixtureParams, turn_logits: Tensor) -> MixtureParams:
@@ -284,7 +281,7 @@ def condition(params: MixtureParams, dims: Sequence[int], values: Tensor) -> Mix
     log_fit = logistic_log_pdf(given, params.loc[..., dims], params.log_scale[..., dims])
     logits = params.logits + log_fit.sum(-1)  # (B, K)
     loc[..., dims] = given.expand_as(loc[..., dims])
-    log_scale[..., dims] = -70.0
+    log_scale[..., dims] = CONDITIONED_LOG_SCALE
     return MixtureParams(logits, loc, log_scale)
 
 

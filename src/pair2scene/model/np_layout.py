@@ -30,12 +30,15 @@ from scipy.special import expit, log_expit, ndtr
 from pair2scene.model.checkpoint import expected_shapes
 from pair2scene.model.config import (
     BOX_DIM,
+    CONDITIONED_LOG_SCALE,
     DEPENDENT,
     FLOOR_INDEX,
+    LAYER_NORM_EPS,
     MAX_ABS_LOCATION,
     MIN_ANCHOR_HALF_M,
     MIN_TARGET_SIZE,
     N_MEMBERS,
+    ROTATION_PAIRS,
     SUPPORT,
     WALL_INDEX,
     InvalidDistribution,
@@ -43,14 +46,6 @@ from pair2scene.model.config import (
     LayoutVariant,
     check_draw,
 )
-
-LAYER_NORM_EPS = 1e-5
-"""``torch.nn.LayerNorm``'s default eps, which every layer norm of the predictor uses."""
-ROTATION_PAIRS = ((6, 7), (9, 10))
-"""Dims of the box target that turn as 2D vectors with the yaw (as
-:data:`pair2scene.model.mixture.ROTATION_PAIRS`)."""
-SCALE_FLOOR = -70.0
-"""The log scale :func:`condition` gives the dims it fixes (as the torch version)."""
 
 
 class MixtureArrays(NamedTuple):
@@ -252,7 +247,7 @@ class NumpyPredictor:
     def __init__(self, config: LayoutConfig, state: Mapping[str, np.ndarray]) -> None:
         self.config = config
         c = config
-        self.uses_frames = c.anchor_frames and c.variant is not LayoutVariant.GLOBAL
+        self.uses_frames = c.uses_frames
         arrays = {
             name: np.array(value, dtype=np.float32)
             for name, value in state.items()
@@ -612,7 +607,7 @@ def condition(params: MixtureArrays, dims: Sequence[int], values: np.ndarray) ->
     logits = params.logits + log_fit.sum(-1)  # (B, K)
     loc, log_scale = params.loc.copy(), params.log_scale.copy()
     loc[..., dims] = given
-    log_scale[..., dims] = SCALE_FLOOR
+    log_scale[..., dims] = CONDITIONED_LOG_SCALE
     return MixtureArrays(logits, loc, log_scale)
 
 

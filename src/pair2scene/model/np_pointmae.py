@@ -42,13 +42,11 @@ from collections.abc import Mapping
 import numpy as np
 
 from pair2scene.model.checkpoint import encoder_shapes
-from pair2scene.model.config import PointMAEConfig
+from pair2scene.model.config import LAYER_NORM_EPS, PointMAEConfig
 
 Pair = tuple[np.ndarray, np.ndarray]
 """A layer's (weight, bias)."""
 
-LAYER_NORM_EPS = 1e-5
-"""``nn.LayerNorm``'s default eps, which every layer norm of the encoder uses."""
 
 CHUNK_VALUES = 1 << 17
 """Values of the mini-PointNet's widest activation (points x 4h) computed at once: 512 kB,
@@ -337,7 +335,6 @@ def encoder_state(
 
 __all__ = [
     "CHUNK_VALUES",
-    "LAYER_NORM_EPS",
     "NumpyPointMAE",
     "encoder_state",
     "farthest_point_sample",
