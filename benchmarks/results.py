@@ -186,6 +186,45 @@ def _category_table(title: str, rows: dict, of, first: dict, reports: dict) -> l
             *(cat_row(name, "generated", rep) for name, rep in reports.items())]  # fmt: skip
 
 
+def tests_table(rep: dict | None, method: str = "ours (fit)") -> list[str]:
+    """``method`` against the real rooms, row by row of evaluate's realism sections (the
+    against-wall and in-corner rates of every category left out when neither side has
+    one): the counts and the two-sided exact test of one rate for both
+    (:mod:`pair2scene.metrics.significance`, worked out from the counts, so a report
+    written before the tests were added reads the same)."""
+    from pair2scene.evaluate import PER_ROOM, SECTIONS
+    from pair2scene.metrics.significance import compare, p_label, stat_label
+
+    if rep is None:
+        return []
+    lines = [f"| measure | real | {method} | differ? |", "|---|---|---|---|"]
+
+    def rows(section: dict, prefix: str = ""):
+        for name, row in section.items():
+            if not isinstance(row, dict):
+                continue
+            if {"generated", "reference"} <= row.keys():
+                yield prefix + name, row
+            elif name in ("against_wall_other", "in_corner_by_category"):
+                continue  # (the per-category tables above; the other categories)
+            else:
+                yield from rows(row, f"{prefix}{name}/")
+
+    differ = []
+    for sec in SECTIONS:
+        for name, row in rows(rep.get(sec, {})):
+            gen, ref = row["generated"], row["reference"]
+            if (gen or {}).get("rate") is None and (ref or {}).get("rate") is None:
+                continue
+            p = compare(gen, ref, name in PER_ROOM)["p_value"]
+            if p is not None and p < 0.05:
+                differ.append(name)
+            lines.append(f"| {name} | {stat_label(ref)} | {stat_label(gen)} | {p_label(p)} |")
+    lines += ["", f"Rows of {method} that differ from the real rooms beyond these rooms' noise "
+              f"(p < 0.05): {', '.join(differ) if differ else 'none'}."]  # fmt: skip
+    return lines
+
+
 def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) -> str | None:
     """docs/results_<room>.png: a row of top views (what FID, KID and SCA see) for the real
     rooms and for each method; the file name, or None when nothing was generated."""
@@ -253,6 +292,19 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
                 "per room):",
                 "",
                 *realism,
+                "",
+            ]
+        tests = tests_table(rows.get("ours (fit)"))
+        if tests:
+            lines += [
+                "Ours (fit) against the real rooms, measure by measure, with the counts "
+                "behind each rate and a two-sided exact test of one rate for both "
+                "(Fisher's for shares, Poisson rates for counts per room; each counted "
+                "object taken as independent; `pair2scene evaluate` prints the same "
+                "column). A large p says these rooms cannot tell the two rates apart, not "
+                "that they are equal:",
+                "",
+                *tests,
                 "",
             ]
         picture = sheet(room, [n for n in described if rows.get(n)], a)

@@ -47,6 +47,14 @@ def test_against_itself_distribution_metrics_are_zero(scenes, tmp_path):
     assert report["acceptance_rate"] == pytest.approx(summary["acceptance_rate"], abs=1e-3)
     assert report["objects_per_scene"] == pytest.approx(summary["objects_per_scene"], abs=1e-3)
     assert (tmp_path / "r.json.cache.json").is_file()  # resumable per-scene physics
+    # The same rooms on both sides: no row differs beyond noise (each exact test's p is 1).
+    tested = [(name, row) for section in ("layout", "navigation", "walls")
+              for name, row in report[section].items() if isinstance(row, dict)
+              and row.get("p_value") is not None]  # fmt: skip
+    assert len(tested) >= 10
+    assert all(row["p_value"] == pytest.approx(1.0) for _, row in tested)
+    per_room = dict(tested)["wall_objects_per_room"]
+    assert per_room["test"] == "poisson" and per_room["generated_ci"] is None
 
 
 def test_cli_against_ai2thor_val_and_a_shifted_set(scenes, tmp_path):
@@ -74,6 +82,7 @@ def test_cli_against_ai2thor_val_and_a_shifted_set(scenes, tmp_path):
                 "resamples_per_object", "objects_per_scene", "seconds_per_scene",
                 "category_kl", "sca", "fid", "kid"):  # fmt: skip
         assert key in report and key in proc.stdout
+    assert "differ?" in proc.stdout and "Fisher's for shares" in proc.stdout
 
 
 def test_reference_specs():

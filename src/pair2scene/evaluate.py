@@ -23,7 +23,10 @@ head), ``navigation`` (:mod:`pair2scene.scene.navigation`: reachable floor, fron
 doors) and ``walls`` (:mod:`pair2scene.metrics.wall_objects`: wall objects and windows
 per room, each wall category's share), as ``{measure: {"generated": stat, "reference":
 stat}}`` with ``stat`` = ``{"rate", "count": [numerator, denominator], "rooms"}`` (rooms
-it was measurable in).
+it was measurable in). Each row also says whether the two differ by more than sampling
+noise (:mod:`pair2scene.metrics.significance`): ``p_value`` of a two-sided exact test
+(``test``: ``fisher`` for shares, ``poisson`` for counts per room) and, for shares, 95 %
+Wilson intervals ``generated_ci`` and ``reference_ci``.
 
 The reference is filtered to the room types of the generated scenes. Per-scene physics
 is cached beside the report (``<out>.cache.json``, keyed by each scene.json's digest),
@@ -43,6 +46,7 @@ import numpy as np
 
 from pair2scene.errors import UserError
 from pair2scene.io.atomic import atomic_write_text
+from pair2scene.metrics.significance import add_tests
 from pair2scene.scene.model import Scene
 
 REPORT_FORMAT = "pair2scene.evaluation"
@@ -305,6 +309,9 @@ SECTIONS: dict[str, Section] = {
 """The report's sections of side-by-side measures: name -> function(reference, generated)
 giving ``{measure: {"generated": stat, "reference": stat}}`` (other entries are details
 the CLI does not print); each becomes ``report[name]`` and a table of the CLI."""
+PER_ROOM = frozenset({"wall_objects_per_room", "windows_per_room"})
+"""Rows of :data:`SECTIONS` that count things per room (k in n rooms), not shares of
+things (k of n): tested as Poisson rates, not by Fisher's test."""
 
 
 def evaluate(
@@ -352,7 +359,7 @@ def evaluate(
     poses = pose_mmd(reference, generated, seed=seed)
     report["pose_mmd"] = poses["mean"]
     for name, section in SECTIONS.items():
-        report[name] = section(reference, generated)
+        report[name] = add_tests(section(reference, generated), PER_ROOM)
     if images:
         from contextlib import nullcontext
 

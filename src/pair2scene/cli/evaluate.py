@@ -63,6 +63,7 @@ def evaluate_command(
     check_range(sca_repeats, "--sca-repeats", 1, MAX_REPEATS)
     out = writable_file(out, "--out")
     from pair2scene.evaluate import HEADLINE, SECTIONS, evaluate, section_rows
+    from pair2scene.metrics.significance import p_label, stat_label
 
     report = evaluate(scenes, reference or ["ai2thor:val"], out, physics=physics,
                       simulate=simulate, images=images, seed=seed,
@@ -78,22 +79,21 @@ def evaluate_command(
     for key in HEADLINE:
         value = report.get(key)
         typer.echo(f"  {key:<22}{'-' if value is None else f'{value:.4g}'}")
+    tested = False
     for name in SECTIONS:
-        rows = [r for r in section_rows(report.get(name, {})) if r[1]["rate"] is not None
+        section = report.get(name, {})
+        rows = [r for r in section_rows(section) if r[1]["rate"] is not None
                 or r[2]["rate"] is not None]  # fmt: skip
         if rows:
-            typer.echo(f"{name:<34}{'generated':<18}reference")
+            typer.echo(f"{name:<34}{'generated':<18}{'reference':<18}differ?")
         for measure, gen, ref in rows:
-            typer.echo(f"  {measure:<32}{_stat(gen):<18}{_stat(ref)}")
+            p = section[measure].get("p_value")
+            tested |= p is not None
+            typer.echo(f"  {measure:<32}{stat_label(gen):<18}{stat_label(ref):<18}{p_label(p)}")
+    if tested:
+        typer.echo(
+            "differ?: two-sided exact test of one rate for both (Fisher's for shares, "
+            "Poisson rates for counts per room); p < 0.05: beyond these rooms' noise"
+        )
     for note in report.get("notes", []):
         typer.echo(f"note: {note}")
-
-
-def _stat(stat: dict | None) -> str:
-    """``0.85 (17/20)``: the rate and its counts; ``-`` when not measurable."""
-    if not stat or stat.get("rate") is None:
-        return "-"
-    if stat.get("count") is None:  # a mean, not a count
-        return f"{stat['rate']:.3f} ({stat.get('rooms', 0)} rooms)"
-    n, d = stat["count"]
-    return f"{stat['rate']:.2f} ({n}/{d})"
