@@ -162,6 +162,12 @@ class RoomTypeStats:
     centimetre -> how many rooms had it (a third of the ProcTHOR rooms are L-shaped or
     more). Empty in statistics written before it was kept (then generated rooms are
     rectangles of the room table's sizes)."""
+    sup_dep: dict[str, Counter[str]] = field(default_factory=dict)
+    """Support category (``floor`` and ``wall`` included) -> dependent category -> count
+    in the rooms of this type: what a bathroom's counter holds (soap, a towel), not what
+    counters hold in general (a kitchen's bread and lettuce). Empty in statistics written
+    before it was kept (then every room type draws dependents from the pooled
+    :attr:`HierarchyStats.sup_dep`)."""
 
     def wall_rate(self, category: str, prior: float = 1.0) -> float:
         """Share of ``category``'s floor objects that stand against a wall, with ``prior``
@@ -197,6 +203,8 @@ class RoomTypeStats:
         self.window_counts.update(other.window_counts)
         self.window_shapes.update(other.window_shapes)
         self.floor_shapes.update(other.floor_shapes)
+        for anchor, deps in other.sup_dep.items():
+            self.sup_dep.setdefault(anchor, Counter()).update(deps)
 
 
 def _add_sums(table: dict[str, dict[str, list[float]]], dependent: str, anchor: str, sums) -> None:
@@ -295,11 +303,13 @@ class HierarchyStats:
             return None if obj is None else obj.category
 
         placed = [o for o in scene.objects if is_placed(o)]
+        room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
         for o in placed:
             anchor = cat_of(o.support)
             if anchor is None:
                 continue
             self.sup_dep.setdefault(anchor, Counter())[o.category] += 1
+            room.sup_dep.setdefault(anchor, Counter())[o.category] += 1
             holder = by_id.get(o.support)
             if holder is not None:
                 if self.on_top is not None:
@@ -311,7 +321,6 @@ class HierarchyStats:
                 per_support.setdefault(func, Counter())[o.category] += 1
                 self._add_geometry(o, by_id[o.functional_anchor])
         self._add_present(placed, cat_of)
-        room = self.room_types.setdefault(scene.room.type, RoomTypeStats())
         room.rooms += 1
         layout = tuple(sorted(m for m in map(template_member, placed) if m is not None))
         room.layouts[layout] += 1
@@ -460,6 +469,10 @@ class HierarchyStats:
                 counts = getattr(pooled, name)
                 for key, n in getattr(part, name).items():
                     counts[key] += n * scale
+            for anchor, deps in part.sup_dep.items():
+                counts = pooled.sup_dep.setdefault(anchor, Counter())
+                for key, n in deps.items():
+                    counts[key] += n * scale
         return pooled
 
     def templates(self, room_type: str, top: int | None = None) -> list[tuple[dict[str, int], int]]:
@@ -497,6 +510,7 @@ class HierarchyStats:
                 "window_counts": counts(rs.window_counts),
                 "window_shapes": [[*k, n] for k, n in sorted(rs.window_shapes.items())],
                 "floor_shapes": [[*k, n] for k, n in sorted(rs.floor_shapes.items())],
+                "sup_dep": {a: counts(d) for a, d in sorted(rs.sup_dep.items())},
             }
         return {
             "format": STATS_FORMAT,
@@ -560,6 +574,8 @@ class HierarchyStats:
                     if len(shape) < 7 or len(shape) % 2 == 0:
                         raise ValueError(f"a floor shape of {len(shape)} numbers")
                     rs.floor_shapes[tuple(float(v) for v in shape)] += int(n)
+                for a, deps in rd.get("sup_dep", {}).items():
+                    rs.sup_dep[a] = Counter({k: int(v) for k, v in deps.items()})
                 out.room_types[rtype] = rs
             for d, pa in doc.get("wall_anchor", {}).items():
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}

@@ -132,6 +132,8 @@ def hierarchy_from_spec(
 
         if room_type in composable(st.stats):
             st, rs = Statistics.for_room(st.stats, room_type)
+    else:  # what rests on what, the room type's way
+        st = Statistics(st.stats, rs)
     h = Hierarchy(room_type)
     h.notes.extend(spec.notes)
     if spec.unparsed:
@@ -331,10 +333,13 @@ def _default_support(
     if category in st.floor_standing or category not in st.instances:
         return FLOOR
     rates = []
-    for node in h.nodes:
-        rate = dict(st.dependents(node.category)).get(category, 0.0)
-        if rate > 0:
-            rates.append((node, rate))
+    for pooled in (False, True):  # the room type's rates; any room's for a stranger to it
+        for node in h.nodes:
+            rate = dict(st.dependents(node.category, pooled)).get(category, 0.0)
+            if rate > 0:
+                rates.append((node, rate))
+        if rates:
+            break
     if rates:
         w = np.array([r for _, r in rates])
         return rates[int(rng.choice(len(rates), p=w / w.sum()))][0].id

@@ -316,6 +316,7 @@ def compose(
     out.floor_shapes = Counter(pooled.floor_shapes)
     out.on_floor = Counter(pooled.on_floor)
     out.against_wall = Counter(pooled.against_wall)
+    out.sup_dep = {a: Counter(d) for a, d in pooled.sup_dep.items()}
     return out
 
 

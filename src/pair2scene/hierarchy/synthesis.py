@@ -14,8 +14,12 @@
    candidate, added with probability ``k * freq / total`` where ``freq`` is how often
    ``d`` rested on an ``a`` and ``total`` how many ``a`` there were (rates above 1 add
    ``floor(rate)`` copies and one more with the remainder's probability: four books per
-   shelf stay four). Each added node gets a functional anchor among the objects already
-   on the same support with the functional statistics' frequencies, and joins the queue.
+   shelf stay four). Both counts are the room type's, shrunk towards those of every
+   room type (:data:`ROOM_PRIOR`), and only categories the room type's training rooms
+   held are candidates: a bathroom's counter takes soap, not a kitchen's bread
+   (:class:`Statistics`). Each added node gets a functional anchor among the objects
+   already on the same support with the functional statistics' frequencies, and joins
+   the queue.
 3. **Cap**: at most ``N_max`` objects, and never more than :data:`MAX_OBJECTS_LIMIT`
    (``max_objects`` above it is a UserError; a count drawn from statistics of your own
    above it is cut, with a note).
@@ -158,11 +162,34 @@ def load_stats(path: str | Path | None = None) -> HierarchyStats:
     return _load_stats(str(table_path("hierarchy_stats") if path is None else Path(path)))
 
 
-class Statistics:
-    """Rates and choices derived from :class:`HierarchyStats` (all plain lookups)."""
+ROOM_PRIOR = 5.0
+"""Pseudo-instances of the pooled rates in a room type's dependent rates: what rests on
+an ``a`` in a room of type r is drawn at (n_r(d on a) + ROOM_PRIOR * rate(d | a)) /
+(n_r(a) + ROOM_PRIOR), ``rate`` over every room type. A type with many ``a`` keeps its
+own rates (a kitchen's counters); one with few leans on the pooled ones (the 25 training
+bathrooms' 3 side tables)."""
 
-    def __init__(self, stats: HierarchyStats) -> None:
+
+class Statistics:
+    """Rates and choices derived from :class:`HierarchyStats` (all plain lookups).
+
+    room : the room type's statistics (``RoomTypeStats``, a composed type's included), or
+        None. With them, what rests on what is drawn the room type's way: only categories
+        its training rooms held, at its own rates shrunk towards the pooled ones
+        (:data:`ROOM_PRIOR`): soap on a bathroom's counter, bread on a kitchen's. Without
+        them (or with statistics written before rooms kept their own ``sup_dep``) every
+        room type draws from the pooled rates."""
+
+    def __init__(self, stats: HierarchyStats, room: object | None = None) -> None:
         self.stats = stats
+        own = getattr(room, "sup_dep", None) or {}
+        self._own: dict[str, Counter[str]] = own
+        self._own_rooms = int(getattr(room, "rooms", 0) or 0)
+        own_instances: Counter[str] = Counter()
+        for deps in own.values():
+            own_instances.update(deps)
+        self._own_instances = own_instances
+        """category -> objects of it (on any support) in the room type's training rooms."""
         instances: Counter[str] = Counter()
         for deps in stats.sup_dep.values():
             instances.update(deps)
@@ -188,24 +215,33 @@ class Statistics:
 
         rs = stats.room_types.get(room_type)
         if rs is not None and rs.layouts:
-            return cls(stats), rs
+            return cls(stats, rs), rs
         if room_type not in composed.composable(stats):
             raise UserError(composed.unknown_message(stats, room_type))
-        return cls(composed.room_view(stats, room_type)), composed.compose(stats, room_type)
+        rs = composed.compose(stats, room_type)
+        return cls(composed.room_view(stats, room_type), rs), rs
 
     def room(self, room_type: str):
         """The room-level statistics of ``room_type`` (:meth:`for_room`)."""
         return Statistics.for_room(self.stats, room_type)[1]
 
-    def dependents(self, anchor: str) -> list[tuple[str, float]]:
-        """(category, rate per anchor instance) of every object seen resting on ``anchor``."""
+    def dependents(self, anchor: str, pooled: bool = False) -> list[tuple[str, float]]:
+        """(category, rate per anchor instance) of every object seen resting on ``anchor``:
+        in the room type's rooms (see the class docstring), or in any room (``pooled``, or
+        without the room type's statistics)."""
         deps = self.stats.sup_dep.get(anchor, {})
         total = self.instances.get(anchor, 0) if anchor != FLOOR else self.stats.rooms
         if not total:
             return []
+        rates = {d: n / total for d, n in deps.items()}
+        if self._own and not pooled:  # the room type's own, shrunk towards the pooled ones
+            mine = self._own.get(anchor, {})
+            n = self._own_instances.get(anchor, 0) if anchor != FLOOR else self._own_rooms
+            rates = {d: (mine.get(d, 0) + ROOM_PRIOR * r) / (n + ROOM_PRIOR)
+                     for d, r in rates.items() if self._own_instances.get(d, 0) > 0}  # fmt: skip
         return [
-            (d, n / total)
-            for d, n in sorted(deps.items())
+            (d, rate)
+            for d, rate in sorted(rates.items())
             if d in BY_NAME
             and BY_NAME[d].super not in NOT_OBJECTS
             and BY_NAME[d].super is not SuperCategory.WALL_OBJECT  # they hang on walls
