@@ -186,6 +186,10 @@ def _category_table(title: str, rows: dict, of, first: dict, reports: dict) -> l
             *(cat_row(name, "generated", rep) for name, rep in reports.items())]  # fmt: skip
 
 
+CATEGORY_GROUPS = ("against_wall_other", "in_corner_by_category")
+"""Groups of per-category rows in evaluate's layout section, left out of :func:`tests_table`."""
+
+
 def tests_table(rep: dict | None, method: str = "ours (fit)") -> list[str]:
     """``method`` against the real rooms, row by row of evaluate's realism sections (the
     against-wall and in-corner rates of every category left out when neither side has
@@ -193,26 +197,16 @@ def tests_table(rep: dict | None, method: str = "ours (fit)") -> list[str]:
     (:mod:`pair2scene.metrics.significance`, worked out from the counts, so a report
     written before the tests were added reads the same)."""
     from pair2scene.evaluate import PER_ROOM, SECTIONS
-    from pair2scene.metrics.significance import compare, p_label, stat_label
+    from pair2scene.metrics.significance import compare, p_label, rows_of, stat_label
 
     if rep is None:
         return []
     lines = [f"| measure | real | {method} | differ? |", "|---|---|---|---|"]
 
-    def rows(section: dict, prefix: str = ""):
-        for name, row in section.items():
-            if not isinstance(row, dict):
-                continue
-            if {"generated", "reference"} <= row.keys():
-                yield prefix + name, row
-            elif name in ("against_wall_other", "in_corner_by_category"):
-                continue  # (the per-category tables above; the other categories)
-            else:
-                yield from rows(row, f"{prefix}{name}/")
-
     differ = []
     for sec in SECTIONS:
-        for name, row in rows(rep.get(sec, {})):
+        # (the per-category tables above hold the categories' rows)
+        for name, row in rows_of(rep.get(sec, {}), skip=CATEGORY_GROUPS):
             gen, ref = row["generated"], row["reference"]
             if (gen or {}).get("rate") is None and (ref or {}).get("rate") is None:
                 continue

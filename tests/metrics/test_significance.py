@@ -12,6 +12,7 @@ from pair2scene.metrics.significance import (
     fisher_exact,
     p_label,
     poisson_rates_exact,
+    rows_of,
     stat_label,
     wilson_interval,
 )
@@ -121,3 +122,12 @@ def test_labels(p, label):
 )
 def test_stat_labels(stat, label):
     assert stat_label(stat) == label
+
+
+def test_rows_of_walks_nested_groups_and_skips_named_ones():
+    row = {"generated": _stat(1, 2), "reference": _stat(1, 2)}
+    section = {"a": row, "group": {"b": row, "deeper": {"c": row}}, "skipped": {"d": row},
+               "pooled": {"generated rooms": {"rooms": 3}}, "note": 1.0}  # fmt: skip
+    assert [p for p, _ in rows_of(section, skip={"skipped"})] == [
+        "a", "group/b", "group/deeper/c"
+    ]  # fmt: skip

@@ -52,6 +52,7 @@ from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.stats import (
     TEMPLATE_SUPER_CATEGORIES,
     HierarchyStats,
+    RoomTypeStats,
     draw_counted,
     split_member,
 )
@@ -180,11 +181,11 @@ class Statistics:
         them (or with statistics written before rooms kept their own ``sup_dep``) every
         room type draws from the pooled rates."""
 
-    def __init__(self, stats: HierarchyStats, room: object | None = None) -> None:
+    def __init__(self, stats: HierarchyStats, room: RoomTypeStats | None = None) -> None:
         self.stats = stats
-        own = getattr(room, "sup_dep", None) or {}
+        own = {} if room is None else room.sup_dep
         self._own: dict[str, Counter[str]] = own
-        self._own_rooms = int(getattr(room, "rooms", 0) or 0)
+        self._own_rooms = 0 if room is None else room.rooms
         own_instances: Counter[str] = Counter()
         for deps in own.values():
             own_instances.update(deps)
@@ -203,7 +204,7 @@ class Statistics:
         counters): never expanded onto another object."""
 
     @classmethod
-    def for_room(cls, stats: HierarchyStats, room_type: str) -> tuple[Statistics, object]:
+    def for_room(cls, stats: HierarchyStats, room_type: str) -> tuple[Statistics, RoomTypeStats]:
         """The statistics a ``room_type`` room is drawn with, and its room-level ones
         (templates, object counts): a trained type's own; for a composed type
         (:mod:`pair2scene.hierarchy.room_types`: an office from living rooms and bedrooms

@@ -28,7 +28,7 @@ reachable share of the free floor) get no test.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Iterator, Sequence
 
 Z_95 = 1.959963984540054
 """The standard normal's 97.5 % quantile: a two-sided 95 % interval."""
@@ -118,17 +118,26 @@ def compare(generated: dict | None, reference: dict | None, per_room: bool = Fal
     return out
 
 
-def add_tests(section: dict, per_room: Collection[str] = ()) -> dict:
-    """Add :func:`compare`'s entries to every row (a dict holding ``generated`` and
-    ``reference`` stats) of a report section, nested groups of rows included, in place;
-    rows named in ``per_room`` are per-room counts. Returns ``section``."""
+def rows_of(
+    section: dict, skip: Collection[str] = (), prefix: str = ""
+) -> Iterator[tuple[str, dict]]:
+    """(path, row) of every row (a dict holding ``generated`` and ``reference`` stats) of a
+    report section, rows of nested groups included (path ``group/name``), in order;
+    groups named in ``skip`` are left out."""
     for name, row in section.items():
         if not isinstance(row, dict):
             continue
         if {"generated", "reference"} <= row.keys():
-            row.update(compare(row["generated"], row["reference"], name in per_room))
-        else:
-            add_tests(row, per_room)
+            yield prefix + name, row
+        elif name not in skip:
+            yield from rows_of(row, skip, f"{prefix}{name}/")
+
+
+def add_tests(section: dict, per_room: Collection[str] = ()) -> dict:
+    """Add :func:`compare`'s entries to every row of a report section (:func:`rows_of`),
+    in place; rows named in ``per_room`` are per-room counts. Returns ``section``."""
+    for path, row in rows_of(section):
+        row.update(compare(row["generated"], row["reference"], path in per_room))
     return section
 
 
@@ -158,6 +167,7 @@ __all__ = [
     "fisher_exact",
     "p_label",
     "poisson_rates_exact",
+    "rows_of",
     "stat_label",
     "wilson_interval",
 ]
