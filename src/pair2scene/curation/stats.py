@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -75,6 +75,15 @@ WALL_MARK = "@" + WALL
 """Suffix of a template member mounted on a wall (``painting@wall``): the template holds
 a room's wall objects beside its furniture, so how many paintings, mirrors and curtains
 a room has goes with its furniture (and a mounted TV is told from one on a stand)."""
+
+
+def instances(sup_dep: Mapping[str, Counter[str]]) -> Counter[str]:
+    """Category -> how many objects of it a support count table (``sup_dep``) holds,
+    on any support: the instances its rates are per."""
+    out: Counter[str] = Counter()
+    for deps in sup_dep.values():
+        out.update(deps)
+    return out
 
 
 def template_member(obj: SceneObject) -> str | None:

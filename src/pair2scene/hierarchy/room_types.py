@@ -53,6 +53,7 @@ from pair2scene.curation.stats import (
     TEMPLATE_SUPER_CATEGORIES,
     HierarchyStats,
     RoomTypeStats,
+    instances,
     split_member,
 )
 from pair2scene.errors import UserError
@@ -241,13 +242,11 @@ def unknown_message(stats: HierarchyStats, room_type: str) -> str:
 def carried(stats: HierarchyStats) -> dict[str, float]:
     """Category -> mean number of objects a piece of it carried in the training rooms
     (objects resting on it, over its instances on any support)."""
-    instances: Counter[str] = Counter()
-    for deps in stats.sup_dep.values():
-        instances.update(deps)
+    count = instances(stats.sup_dep)
     return {
-        cat: sum(deps.values()) / instances[cat]
+        cat: sum(deps.values()) / count[cat]
         for cat, deps in stats.sup_dep.items()
-        if instances.get(cat)
+        if count.get(cat)
     }
 
 

@@ -54,6 +54,7 @@ from pair2scene.curation.stats import (
     HierarchyStats,
     RoomTypeStats,
     draw_counted,
+    instances,
     split_member,
 )
 from pair2scene.errors import UserError
@@ -186,19 +187,13 @@ class Statistics:
         own = {} if room is None else room.sup_dep
         self._own: dict[str, Counter[str]] = own
         self._own_rooms = 0 if room is None else room.rooms
-        own_instances: Counter[str] = Counter()
-        for deps in own.values():
-            own_instances.update(deps)
-        self._own_instances = own_instances
+        self._own_instances = instances(own)
         """category -> objects of it (on any support) in the room type's training rooms."""
-        instances: Counter[str] = Counter()
-        for deps in stats.sup_dep.values():
-            instances.update(deps)
-        self.instances = instances
+        self.instances = instances(stats.sup_dep)
         """category -> how many objects of it the training rooms held (on any support)."""
         on_floor = stats.sup_dep.get(FLOOR, {})
         self.floor_standing = frozenset(
-            c for c, n in instances.items() if 2 * on_floor.get(c, 0) > n
+            c for c, n in self.instances.items() if 2 * on_floor.get(c, 0) > n
         )
         """Categories that rest on the floor in most of their training instances (furniture,
         counters): never expanded onto another object."""
