@@ -55,6 +55,8 @@ def perturbed_model(config: LayoutConfig, seed: int = 0) -> LayoutPredictor:
     with torch.no_grad():
         for p in model.parameters():
             p.add_(0.3 * torch.randn(p.shape, generator=g))
+        if config.uses_pair_prior:  # a table with every pair's own centre
+            model.pair_centre.copy_(torch.randn(model.pair_centre.shape, generator=g))
     return model
 
 
@@ -116,6 +118,9 @@ VARIANTS = {
         mixture=MixtureConfig(num_components=3, yaw_modes=1, rotation_base=False)
     ),
     "two yaw modes": tiny_config(mixture=MixtureConfig(num_components=2, yaw_modes=2)),
+    "pair prior": tiny_config("full", pair_prior=True),
+    "pair prior, no anchor frames": tiny_config("full", pair_prior=True, anchor_frames=False),
+    "pair prior, class-only": tiny_config("class-only", pair_prior=True),
 }
 
 

@@ -57,6 +57,29 @@ def test_tiny_training_learns_and_writes_a_checkpoint(trained):
     assert doc["training"]["val_nll"] == pytest.approx(trained.best_val_nll)
 
 
+def test_the_checkpoint_holds_the_pair_table_of_the_train_tuples_only(trained, pairs_dir):
+    from safetensors.numpy import load_file
+
+    from pair2scene.curation.dataset import CATEGORY_VOCAB
+    from pair2scene.model.features import dataset_features
+    from pair2scene.model.pair_prior import pair_centre_table
+    from pair2scene.model.train import _split_rows, _subset
+
+    doc = json.loads((trained.out_dir / CONFIG_FILE).read_text())
+    assert doc["layout"]["pair_prior"] is True  # the default
+    data = load_pairs(pairs_dir)
+    arrays = dataset_features(data, "full", anchor_frames=True).arrays
+    train_rows = _subset(arrays, _split_rows(data, "train"))
+    want = pair_centre_table(
+        train_rows.categories, train_rows.frames, train_rows.target, len(CATEGORY_VOCAB)
+    )
+    got = load_file(str(trained.out_dir / WEIGHTS_FILE))["pair_centre"]
+    assert want.any()  # the synthetic corpus has pairs with enough tuples
+    np.testing.assert_array_equal(got, want)
+    everything = pair_centre_table(arrays.categories, arrays.frames, arrays.target, len(want))
+    assert not np.array_equal(everything, want)  # the val tuples would move it
+
+
 def test_score_of_the_checkpoint_is_the_training_val_nll(trained, pairs_dir):
     model = from_pretrained(trained.out_dir)
     result = score(model, pairs_dir, "val")

@@ -199,6 +199,14 @@ def train_command(
             "(off: one yaw per component, as the paper)."
         ),
     ] = 4,
+    pair_prior: Annotated[
+        bool,
+        typer.Option(
+            help="Add each category pair's median centre over the train tuples to the "
+            "network's output (a rare pair keeps its own placement); --no-pair-prior: the "
+            "network alone."
+        ),
+    ] = True,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.
@@ -222,6 +230,7 @@ def train_command(
         seed=seed,
         anchor_frames=anchor_frames,
         yaw_modes=yaw_modes,
+        pair_prior=pair_prior,
     )
     result = train(config, data, out, progress=not as_json)
     doc = {

@@ -23,9 +23,9 @@ weights are known to fit a model of bounded size)
 2. Every field of the config (:func:`check_model_config`), against the table below:
    integers must be JSON integers (``4.0`` and ``true`` are not), numbers finite, flags
    ``true`` / ``false``, names one of the listed choices. Fields of ``layout``,
-   ``layout.mixture`` and ``encoder`` are all required (except the two that older
-   checkpoints lack: ``layout.anchor_frames``, read as false, and
-   ``layout.mixture.yaw_modes``, read as 1) and an unknown field there is refused: it
+   ``layout.mixture`` and ``encoder`` are all required (except the three that older
+   checkpoints lack: ``layout.anchor_frames`` and ``layout.pair_prior``, read as false,
+   and ``layout.mixture.yaw_modes``, read as 1) and an unknown field there is refused: it
    would change the network this version builds, so the weights would not mean what they
    meant. Unknown top-level keys are ignored (they describe, they do not build);
    ``training`` is free-form but must be an object.
@@ -58,7 +58,7 @@ Ranges of config.json (every bound inclusive unless written ``<``; presets for s
     layout.n_categories                     len(CATEGORY_VOCAB) (123 today) .. 4096
     layout.dropout                          0 .. < 1
     layout.variant                          full | class-only | no-pretrain | global
-    layout.finetune_encoder, .anchor_frames true | false
+    layout.finetune_encoder, .anchor_frames, .pair_prior   true | false
     layout.mixture.num_components           1 .. 256       (8 / 4)
     layout.mixture.dim                      12
     layout.mixture.min_log_scale            -20 .. 20, < max_log_scale   (-7)
@@ -118,6 +118,7 @@ from pair2scene.model.config import (
     MixtureConfig,
     PointMAEConfig,
 )
+from pair2scene.model.pair_prior import table_shape
 
 if TYPE_CHECKING:  # torch is imported where a network is built, not to read a checkpoint
     import torch
@@ -203,6 +204,7 @@ def layout_config_from_dict(doc: dict) -> LayoutConfig:
     Checks no ranges: :func:`check_model_config` does, for a config read from a file."""
     doc = dict(doc)
     doc.setdefault("anchor_frames", False)  # written before issue 18: the support's frame
+    doc.setdefault("pair_prior", False)  # written before the pair table
     mix = dict(doc.pop("mixture"))
     mix.setdefault("yaw_modes", 1)  # written before the right-angle yaw modes
     mix["entropy_regulariser"] = EntropyRegulariser(mix["entropy_regulariser"])
@@ -248,6 +250,7 @@ LAYOUT_FIELDS: dict[str, FieldRange] = {
     "variant": FieldRange(str, choices=tuple(v.value for v in LayoutVariant)),
     "finetune_encoder": _FLAG,
     "anchor_frames": _FLAG,
+    "pair_prior": _FLAG,
 }
 """``layout`` (besides ``mixture``): :class:`~pair2scene.model.layout.LayoutConfig`."""
 MIXTURE_FIELDS: dict[str, FieldRange] = {
@@ -277,7 +280,11 @@ ENCODER_FIELDS: dict[str, FieldRange] = {
     "dropout": _UNIT,
 }
 """``encoder``: :class:`~pair2scene.model.pointmae.PointMAEConfig`."""
-LEGACY_DEFAULTS: dict[str, Any] = {"layout.anchor_frames": False, "layout.mixture.yaw_modes": 1}
+LEGACY_DEFAULTS: dict[str, Any] = {
+    "layout.anchor_frames": False,
+    "layout.mixture.yaw_modes": 1,
+    "layout.pair_prior": False,
+}
 """Fields older checkpoints lack, and what they mean there."""
 
 
@@ -581,6 +588,7 @@ def expected_shapes(
     out: dict[str, tuple[int, ...]] = {
         "member_queries": (N_MEMBERS, c.queries, w),
         "unknown_box": (w,),  # (a module's own parameters come before its children's)
+        **({"pair_centre": table_shape(c.n_categories)} if c.uses_pair_prior else {}),
         "category.weight": (c.n_categories, w),
         **_mlp("size_mlp", 3, w, w),
         **_mlp("box_mlp", BOX_DIM, w, w),

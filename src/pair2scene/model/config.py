@@ -133,6 +133,9 @@ MIN_ANCHOR_HALF_M = 0.05
 """Floor on the support's half-size per axis in the model frame (metres), see
 :mod:`pair2scene.model.features`: canonical heights on 1.7 cm counter tops would reach
 the hundreds."""
+PAIR_PRIOR_MIN_TUPLES = 5
+"""Train tuples a category pair needs (in one frame) for its own median centre in the
+pair table (:attr:`LayoutConfig.pair_prior`); fewer: no offset, the network alone."""
 HEAD_INIT_STD = 0.02
 """Std of the head's output layer at initialisation: raw outputs start near 0, i.e.
 uniform weights, locations near 0 and log scales near 0 (unit-scale logistics)."""
@@ -188,6 +191,13 @@ class LayoutConfig:
     footprint frame; docs/model.md), with a learned embedding of which frame it is.
     False: every tuple in its support's frame (the paper; checkpoints written before
     issue 18). ``global`` ignores it."""
+    pair_prior: bool = False
+    """Add each (frame anchor, dependent) category pair's median centre across its frame
+    (x, y, from the train tuples, pairs with at least :data:`PAIR_PRIOR_MIN_TUPLES`) to
+    every component's location, as the known size is added: the network predicts the
+    residual, so a rare pair (a pillow on a bed) keeps its own placement where a shared
+    network averages it away (docs/model.md). The table is the checkpoint's
+    ``pair_centre`` buffer. ``global`` ignores it."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "variant", LayoutVariant(self.variant))
@@ -210,6 +220,11 @@ class LayoutConfig:
         """Whether tuples are predicted in their governing anchor's frame (``global``
         predicts in the world's, whatever ``anchor_frames`` says)."""
         return self.anchor_frames and self.variant is not LayoutVariant.GLOBAL
+
+    @property
+    def uses_pair_prior(self) -> bool:
+        """Whether the network adds the pair table's centres (``global`` never does)."""
+        return self.pair_prior and self.variant is not LayoutVariant.GLOBAL
 
     @property
     def uses_points(self) -> bool:

@@ -123,6 +123,7 @@ from pair2scene.model.mixture import (
     mixture_params_from_head,
     target_from_box_vector,
 )
+from pair2scene.model.pair_prior import CENTRE_DIMS, table_shape
 
 
 @dataclass
@@ -336,6 +337,8 @@ class LayoutPredictor(nn.Module):
             self.head = MLP(c.queries * c.width, c.width, c.mixture.head_dim)
             if self.uses_frames:
                 self.frame = nn.Embedding(len(FRAME_NAMES), c.width)
+            if c.uses_pair_prior:  # filled by the trainer, loaded with the weights
+                self.register_buffer("pair_centre", torch.empty(table_shape(c.n_categories)))
         if materialise:
             self.to_empty(device="cpu")
             seeded = torch.Generator().manual_seed(0) if generator is None else generator
@@ -383,6 +386,8 @@ class LayoutPredictor(nn.Module):
                 normal(module.weight, 1.0)
         normal(self.member_queries, 1.0)
         normal(self.unknown_box, 1.0)  # like the box MLP's output: O(1) per element
+        if self.config.uses_pair_prior:
+            nn.init.zeros_(self.pair_centre)  # no pair's centre until the trainer fills it
 
     def train(self, mode: bool = True) -> LayoutPredictor:
         super().train(mode)
@@ -500,7 +505,22 @@ class LayoutPredictor(nn.Module):
         on_floor = (support == FLOOR_INDEX) | (support == WALL_INDEX)
         known[:, 2] = torch.where(on_floor, -top, top) + 0.5 * size[:, 2]
         known[:, 3:6] = size.log()
+        if self.config.uses_pair_prior:
+            known[:, :CENTRE_DIMS] = self.pair_centres(batch)
         return known
+
+    def pair_centres(self, batch: LayoutBatch) -> Tensor:
+        """(B, 2) the pair table's centre of each tuple (:mod:`pair2scene.model.pair_prior`;
+        0 for a pair it lacks)."""
+        cats = batch.categories
+        frames = batch.frames if self.uses_frames else None
+        frames = frames if frames is not None else torch.zeros_like(cats[:, 0])
+        anchor = torch.where(frames == FRAME_FUNCTIONAL, cats[:, FUNCTIONAL], cats[:, SUPPORT])
+        anchor = torch.where(frames == FRAME_WALL, WALL_INDEX, anchor)
+        n_anchor, n_dep = self.pair_centre.shape[:2]
+        return self.pair_centre[
+            anchor.clamp(0, n_anchor - 1), cats[:, DEPENDENT].clamp(0, n_dep - 1), frames
+        ]
 
     def loss(self, params: MixtureParams, target: Tensor) -> tuple[Tensor, LossParts]:
         """Mean NLL of ``target`` (B, 12) plus the configured entropy term; and its parts."""

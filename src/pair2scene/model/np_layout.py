@@ -46,6 +46,7 @@ from pair2scene.model.config import (
     LayoutVariant,
     check_draw,
 )
+from pair2scene.model.pair_prior import CENTRE_DIMS, table_centres
 
 
 class MixtureArrays(NamedTuple):
@@ -293,6 +294,7 @@ class NumpyPredictor:
         self._unknown_box = arrays["unknown_box"]
         self._known_size_mlp = mlp("known_size_mlp")
         self._frame = arrays["frame.weight"] if self.uses_frames else None
+        self._pair_centre = arrays["pair_centre"] if c.uses_pair_prior else None
         if c.uses_points:
             self._point_proj = linear("point_proj")
             self._point_pos = mlp("point_pos")
@@ -383,6 +385,9 @@ class NumpyPredictor:
             if b and not 0 <= kinds.min() <= kinds.max() < len(self._frame):
                 raise ValueError(f"frames must be in [0, {len(self._frame)}): {kinds}")
             dep_spatial += self._frame[kinds]
+        if self._pair_centre is not None:  # the centre the pair table gives (x, y)
+            kinds = np.asarray(frames) if self._frame is not None and frames is not None else None
+            known[:, :CENTRE_DIMS] = table_centres(self._pair_centre, categories, kinds)
         spatial = np.concatenate([dep_spatial[:, None], _mlp(boxes, self._box_mlp)], axis=1)
         spatial = spatial[:, :, None, :]  # (B, M, 1, D): one per member, all its tokens
         key_bias = None  # absent members' tokens are no keys

@@ -43,6 +43,7 @@ from pair2scene.model.features import (
     encode_clouds,
 )
 from pair2scene.model.layout import LayoutPredictor, LayoutVariant
+from pair2scene.model.pair_prior import pair_centre_table
 from pair2scene.model.pointmae import PointMAEEncoder
 from pair2scene.model.presets import TrainPreset, preset
 from pair2scene.model.pretrain import load_encoder
@@ -75,6 +76,10 @@ class TrainConfig:
     yaw_modes: int = 4
     """Right-angle yaw turns per mixture component (:class:`MixtureConfig.yaw_modes`): 4
     quarter turns, 2 half turns, 1 off (each component one yaw, as the paper)."""
+    pair_prior: bool = True
+    """Add each category pair's median centre over the train tuples to the network's
+    output (:attr:`LayoutConfig.pair_prior`, :mod:`pair2scene.model.pair_prior`); False:
+    the network alone places every pair."""
 
     def resolved_preset(self) -> TrainPreset:
         try:
@@ -88,6 +93,10 @@ class TrainConfig:
         if p.layout.anchor_frames != self.anchor_frames:
             p = dataclasses.replace(
                 p, layout=dataclasses.replace(p.layout, anchor_frames=self.anchor_frames)
+            )
+        if p.layout.pair_prior != self.pair_prior:
+            p = dataclasses.replace(
+                p, layout=dataclasses.replace(p.layout, pair_prior=self.pair_prior)
             )
         if p.layout.mixture.yaw_modes != self.yaw_modes:
             try:
@@ -282,6 +291,11 @@ def train(
 
     # -- model, optimiser, schedule ------------------------------------------------------
     model = LayoutPredictor(p.layout, encoder, torch.Generator().manual_seed(config.seed))
+    if p.layout.uses_pair_prior:  # the train tuples' own centres (resuming reloads it)
+        table = pair_centre_table(
+            train_arr.categories, train_arr.frames, train_arr.target, p.layout.n_categories
+        )
+        model.pair_centre.copy_(torch.from_numpy(table))
     model = model.to(config.device)
     opt = torch.optim.AdamW(_param_groups(model, p), lr=p.lr, betas=(0.9, 0.95))
     steps_per_epoch = p.steps_per_epoch(len(train_arr))

@@ -1,0 +1,139 @@
+"""The pair table (model/pair_prior.py): which pairs get a centre and which member keys
+it, that the predictor adds exactly the table's centre to every component, the trainer
+fills it from the train tuples only, and checkpoints keep it (older ones read as off)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from pair2scene.curation.dataset import CATEGORY_VOCAB  # noqa: E402
+from pair2scene.curation.frames import (  # noqa: E402
+    FRAME_FUNCTIONAL,
+    FRAME_SUPPORT,
+    FRAME_WALL,
+)
+from pair2scene.model.checkpoint import (  # noqa: E402
+    expected_shapes,
+    layout_config_from_dict,
+    layout_config_to_dict,
+)
+from pair2scene.model.config import (  # noqa: E402
+    FLOOR_INDEX,
+    PAIR_PRIOR_MIN_TUPLES,
+    WALL_INDEX,
+    LayoutConfig,
+    LayoutVariant,
+)
+from pair2scene.model.features import category_index  # noqa: E402
+from pair2scene.model.layout import LayoutBatch, LayoutPredictor  # noqa: E402
+from pair2scene.model.pair_prior import (  # noqa: E402
+    frame_anchor,
+    pair_centre_table,
+    table_centres,
+    table_shape,
+)
+
+N = len(CATEGORY_VOCAB)
+BED, PILLOW, BOOK = category_index("bed"), category_index("pillow"), category_index("book")
+DESK, CHAIR = category_index("desk"), category_index("chair")
+
+
+def tuples(rows: list[tuple[int, int, int, int, float, float]]):
+    """(categories (n, 3), frames (n,), centres (n, 2)) from (dependent, support,
+    functional or -1, frame, x, y) rows."""
+    a = np.array(rows, dtype=np.float64)
+    return a[:, :3].astype(np.int64), a[:, 3].astype(np.int64), a[:, 4:6]
+
+
+def test_a_pair_with_enough_tuples_gets_its_median_and_a_rarer_one_none():
+    k = PAIR_PRIOR_MIN_TUPLES
+    ys = np.linspace(-0.7, -0.5, k)
+    rows = [(PILLOW, BED, -1, FRAME_SUPPORT, 0.1 * i, y) for i, y in enumerate(ys)]
+    rows += [(BOOK, BED, -1, FRAME_SUPPORT, 0.3, 0.2)] * (k - 1)
+    cats, frames, centres = tuples(rows)
+    table = pair_centre_table(cats, frames, centres, N)
+    assert table.shape == table_shape(N) and table.dtype == np.float32
+    np.testing.assert_allclose(
+        table[BED, PILLOW, FRAME_SUPPORT],
+        [np.median(0.1 * np.arange(k)), np.median(ys)],
+        atol=1e-6,
+    )
+    assert not table[BED, BOOK].any()  # one tuple short
+    assert np.count_nonzero(table.any(axis=-1)) == 1
+
+
+def test_the_frame_anchor_keys_the_pair():
+    """A chair in a desk's frame is keyed by the desk, not by its support (the floor); a
+    floor object against a wall by the wall; no frames: the support for every tuple."""
+    k = PAIR_PRIOR_MIN_TUPLES
+    rows = [(CHAIR, FLOOR_INDEX, DESK, FRAME_FUNCTIONAL, 0.0, 0.8)] * k
+    rows += [(BED, FLOOR_INDEX, -1, FRAME_WALL, 0.1, 0.4)] * k
+    cats, frames, centres = tuples(rows)
+    np.testing.assert_array_equal(frame_anchor(cats, frames), [DESK] * k + [WALL_INDEX] * k)
+    np.testing.assert_array_equal(frame_anchor(cats, None), [FLOOR_INDEX] * (2 * k))
+    table = pair_centre_table(cats, frames, centres, N)
+    np.testing.assert_allclose(table[DESK, CHAIR, FRAME_FUNCTIONAL], [0.0, 0.8])
+    np.testing.assert_allclose(table[WALL_INDEX, BED, FRAME_WALL], [0.1, 0.4])
+    assert not table[FLOOR_INDEX].any()
+    np.testing.assert_allclose(table_centres(table, cats[:1], frames[:1]), [[0.0, 0.8]])
+    assert not table_centres(table, cats[:1], None).any()  # the floor's row is empty
+
+
+def test_no_tuples_give_an_empty_table():
+    empty = np.zeros((0, 3), np.int64)
+    assert not pair_centre_table(empty, None, np.zeros((0, 2)), N).any()
+
+
+def tiny(**kw) -> LayoutConfig:
+    return LayoutConfig(width=32, depth=1, heads=4, queries=2, point_dim=8, **kw)
+
+
+def batch_on_a_bed(b: int = 3) -> LayoutBatch:
+    g = torch.Generator().manual_seed(3)
+    cats = torch.tensor([[PILLOW, BED, -1]] * b)
+    boxes = torch.zeros(b, 2, 12)
+    boxes[:, 0] = torch.tensor([0, 0, 0, 2, 2, 2, 1, 0, 0, 0, 1, 0.0])
+    return LayoutBatch(
+        categories=cats,
+        scales=torch.rand(b, 3, 3, generator=g) + 0.2,
+        anchor_boxes=boxes,
+        member_mask=torch.tensor([[True, True, False]] * b),
+        frames=torch.zeros(b, dtype=torch.long),
+        frame_sizes=torch.rand(b, 3, generator=g) + 0.5,
+    )
+
+
+def test_the_predictor_adds_the_tables_centre_to_every_component():
+    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True)
+    model = LayoutPredictor(config, None, torch.Generator().manual_seed(0)).eval()
+    assert not model.pair_centre.any()  # empty until the trainer fills it
+    batch = batch_on_a_bed()
+    with torch.no_grad():
+        before = model(batch)[0]
+        model.pair_centre[BED, PILLOW, FRAME_SUPPORT] = torch.tensor([0.25, -0.6])
+        after = model(batch)[0]
+    shift = after.loc - before.loc
+    torch.testing.assert_close(shift[..., 0], torch.full_like(shift[..., 0], 0.25))
+    torch.testing.assert_close(shift[..., 1], torch.full_like(shift[..., 1], -0.6))
+    assert not shift[..., 2:].any()
+    torch.testing.assert_close(after.logits, before.logits)
+    torch.testing.assert_close(after.log_scale, before.log_scale)
+
+
+def test_the_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
+    on, off = tiny(pair_prior=True), tiny()
+    shapes = expected_shapes(on, None)
+    assert shapes["pair_centre"] == table_shape(on.n_categories)
+    assert "pair_centre" not in expected_shapes(off, None)
+    model = LayoutPredictor(on, None, materialise=False)
+    assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
+    doc = json.loads(json.dumps(layout_config_to_dict(on)))
+    assert layout_config_from_dict(doc) == on
+    del doc["pair_prior"]  # written before the table
+    assert layout_config_from_dict(doc).pair_prior is False
+    assert not tiny(variant=LayoutVariant.GLOBAL, pair_prior=True).uses_pair_prior
