@@ -13,8 +13,8 @@ mixture's own weights for each tuple), and that median again with the dependent'
 category swapped for each other listed one (geometry and size unchanged): a model that
 uses what it places moves with the category. Last, how much the head's input (the
 dependent's tokens after the last block) varies among these tuples against its norm.
-Prints markdown tables. docs/model.md ("Sharper on average is not sharper on every
-pair") quotes it.
+Prints markdown tables. docs/model.md ("The pair table") quotes it, before and after
+the table.
 """
 
 from __future__ import annotations
