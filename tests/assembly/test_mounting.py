@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from pair2scene.assembly.mounting import (
+    HEIGHT_MARGIN_M,
     MOUNT_GAP_M,
     SILL_COVER_M,
+    MountHeights,
     dress_window,
     fitted_dressing,
     hang,
@@ -411,3 +413,45 @@ def test_what_stands_on_furniture_keeps_clear_of_the_wall_object_above_it():
     painting, vase, rejections = _under_a_painting(0.3, 0)
     assert vase is not None and rejections.get("covers", 0) > 0
     assert covered_share(painting.box, WALLS[0], vase.box) > MAX_COVER
+
+
+def test_mount_heights_band_is_the_mean_within_two_deviations_and_a_margin():
+    from pair2scene.curation.stats import HierarchyStats
+
+    stats = HierarchyStats()
+    zs = [1.4, 1.6, 1.6, 1.8, 1.6]  # mean 1.6, standard deviation sqrt(0.016)
+    stats.mount_height["painting"] = {"wall": [5.0, sum(zs), sum(z * z for z in zs)]}
+    stats.mount_height["microwave"] = {"wall": [4.0, 7.0, 12.26]}  # too few: no band
+    heights = MountHeights.from_stats(stats)
+    reach = 2 * np.sqrt(0.016) + HEIGHT_MARGIN_M
+    assert set(heights.bands) == {"painting"}
+    np.testing.assert_allclose(heights.bands["painting"], (1.6 - reach, 1.6 + reach))
+
+    def at(z: float) -> OrientedBox:
+        return hang(WALLS[0], 0.0, z, np.array([0.8, 0.05, 0.6]))
+
+    assert not heights.off_height("painting", at(1.6 + reach - 1e-6))
+    assert heights.off_height("painting", at(1.6 + reach + 1e-6))
+    assert heights.off_height("painting", at(0.9))
+    assert not heights.off_height("microwave", at(0.3))  # no band: anywhere
+
+
+def test_placement_hangs_mounted_objects_only_within_their_band():
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+
+    h = Hierarchy("kitchen")
+    for _ in range(3):
+        h.add("microwave", "wall")
+    model = from_pretrained()
+    band = MountHeights({"microwave": (1.6, 1.9)})
+    held = Placer(model, heights=band).place(h.validate(), ROOM, seed=0)
+    hung = [o for o in held.scene.objects if o.category == "microwave"]
+    assert hung and all(1.6 <= o.box.center[2] <= 1.9 for o in hung)
+    assert held.stats.rejections.get("off_height", 0) > 0  # the model draws lower too
+    loose = Placer(model, config=AssemblyConfig(mount_heights=False), heights=band)
+    free = loose.place(h.validate(), ROOM, seed=0)
+    assert "off_height" not in free.stats.rejections
+    assert any(not 1.6 <= o.box.center[2] <= 1.9 for o in free.scene.objects)

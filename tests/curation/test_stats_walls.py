@@ -71,3 +71,25 @@ def test_synthesis_hangs_template_wall_objects_on_walls_over_their_anchor():
         assert [s.dependent.category for s in h.sequence()][0] == "bed"
     # 2 of 3 paintings hung over the bed in the data
     assert seen["bed_0"] > 0 and seen[None] > 0
+
+
+def test_mount_heights_are_counted_per_category_and_survive_json():
+    scenes = _scenes()  # every box's centre at 0.5 m; set the wall objects' heights
+    heights = {("a", "painting_0"): 1.4, ("a", "painting_1"): 1.8, ("b", "painting_0"): 1.6,
+               ("a", "television_0"): 1.5}  # fmt: skip
+    for s in scenes:
+        for i, o in enumerate(s.objects):
+            z = heights.get((s.id, o.id))
+            if z is not None:
+                s.objects[i] = SceneObject(o.id, o.category,
+                                           OrientedBox.from_yaw([1, 1, z], [0.5, 0.1, 0.4]),
+                                           None, o.support, o.functional_anchor)  # fmt: skip
+    stats = HierarchyStats.fit(scenes)
+    # the television on the bed in room b rests on a support, not a wall: not counted
+    assert set(stats.mount_height) == {"painting", "television"}
+    np.testing.assert_allclose(stats.mount_height["painting"]["wall"], [3.0, 4.8, 7.76])
+    np.testing.assert_allclose(stats.mount_height["television"]["wall"], [1.0, 1.5, 2.25])
+    back = HierarchyStats.from_json(stats.to_json())
+    np.testing.assert_allclose(back.mount_height["painting"]["wall"], [3.0, 4.8, 7.76])
+    merged = HierarchyStats.merge([stats, stats])
+    assert merged.mount_height["painting"]["wall"][0] == 6.0

@@ -17,6 +17,12 @@ excepted), hang behind a piece of furniture standing against the wall and reachi
 its bottom (a painting behind a wardrobe), or stand off the wall's ends; collisions with
 furniture and the other mounted objects are tested like any candidate's.
 
+A mounted object hangs at the heights its category hung at in the training rooms
+(:class:`MountHeights`): the model draws a wall microwave, 10 of whose kind it saw, anywhere
+from the floor to the ceiling, and a painting now and then against the ceiling, where the
+real ones hang at 1.76 m (0.11 m spread) and 1.64 m (0.31 m); a candidate outside its
+category's band is rejected (``off_height``).
+
 Curtains and blinds (:data:`WINDOW_DRESSINGS`) hang at a window: the model knows no
 windows, so they are placed by rule, centred on a window nobody dressed yet, hanging from
 :data:`DRESSING_ABOVE_M` above its top (:func:`dress_window`). Where furniture stands
@@ -27,11 +33,14 @@ curtains do, and clear of the door's frame.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from pair2scene.assembly.walls import faced_by, weighted_keys
+from pair2scene.curation.stats import HierarchyStats
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.model import Opening, Room
+from pair2scene.scene.model import WALL, Opening, Room
 from pair2scene.scene.walls import AGAINST_GAP_M, Wall, wall_contact
 
 MOUNT_GAP_M = 0.002
@@ -66,6 +75,44 @@ MAX_COVER = 0.25
 wall objects (curtains and blinds left out) of the AI2-THOR and ProcTHOR-1k bedrooms,
 living rooms and kitchens, train and val, 5 were covered more than a quarter
 (``pair2scene evaluate``'s walls ``covered``)."""
+
+HEIGHT_MIN_OBJECTS = 5
+"""Categories mounted fewer times than this in the training rooms get no height band."""
+HEIGHT_SPREAD = 2.0
+"""A mounted object's centre may stand this many standard deviations from its category's
+mean height..."""
+HEIGHT_MARGIN_M = 0.15
+"""... plus this margin (m). Of the 1,553 mounted objects of the training rooms, 11 fall
+outside their own category's band (5 paintings, 3 televisions, 2 blinds, a towel
+holder)."""
+
+
+@dataclass(frozen=True)
+class MountHeights:
+    """The band of centre heights above the floor (m) per mounted category, from the
+    training rooms (:attr:`~pair2scene.curation.stats.HierarchyStats.mount_height`):
+    mean +- (:data:`HEIGHT_SPREAD` standard deviations + :data:`HEIGHT_MARGIN_M`)."""
+
+    bands: dict[str, tuple[float, float]]
+
+    @classmethod
+    def from_stats(cls, stats: HierarchyStats) -> MountHeights:
+        bands = {}
+        for category, per_support in stats.mount_height.items():
+            n, total, squares = per_support.get(WALL, (0.0, 0.0, 0.0))
+            if n < HEIGHT_MIN_OBJECTS:
+                continue
+            mean = total / n
+            std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
+            reach = HEIGHT_SPREAD * std + HEIGHT_MARGIN_M
+            bands[category] = (mean - reach, mean + reach)
+        return cls(bands)
+
+    def off_height(self, category: str, box: OrientedBox) -> bool:
+        """Whether ``box`` (mounted, of ``category``) hangs outside its category's band
+        (False for a category without one)."""
+        band = self.bands.get(category)
+        return band is not None and not band[0] <= float(box.center[2]) <= band[1]
 
 
 def wall_openings(wall: Wall, openings) -> list[tuple[float, float, float, float, int]]:

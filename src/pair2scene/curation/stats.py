@@ -291,6 +291,13 @@ class HierarchyStats:
     stands centred on its stand facing its way and about as wide (``w`` 1.00 on average,
     up to 1.69), a cup anywhere on a table, any way."""
 
+    mount_height: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+    """dependent category -> ``wall`` -> [n, sum z, sum z²]: the heights of the centres of
+    the objects mounted on a wall above the floor (m): paintings at 1.64 m on average
+    (standard deviation 0.31), a microwave over the counter at 1.76 m (0.11), a toilet
+    paper hanger at 0.89 m (0.11) in the training rooms. Empty in statistics written
+    before it was kept (then mounted objects hang at any height the model draws)."""
+
     # -- fitting ------------------------------------------------------------------
     @classmethod
     def fit(cls, scenes: Iterable[Scene]) -> HierarchyStats:
@@ -319,6 +326,9 @@ class HierarchyStats:
                 continue
             self.sup_dep.setdefault(anchor, Counter())[o.category] += 1
             room.sup_dep.setdefault(anchor, Counter())[o.category] += 1
+            if anchor == WALL:
+                z = float(o.box.center[2])
+                _add_sums(self.mount_height, o.category, WALL, (1.0, z, z * z))
             holder = by_id.get(o.support)
             if holder is not None:
                 if self.on_top is not None:
@@ -409,7 +419,8 @@ class HierarchyStats:
                 out.room_types.setdefault(rtype, RoomTypeStats()).add(rs)
             for own, theirs in ((out.wall_anchor, p.wall_anchor),
                                 (out.func_geometry, p.func_geometry),
-                                (out.sup_geometry, p.sup_geometry)):  # fmt: skip
+                                (out.sup_geometry, p.sup_geometry),
+                                (out.mount_height, p.mount_height)):  # fmt: skip
                 for dep, per_anchor in theirs.items():
                     for anchor, acc in per_anchor.items():
                         _add_sums(own, dep, anchor, acc)
@@ -535,6 +546,7 @@ class HierarchyStats:
             "wall_anchor": _sums(self.wall_anchor),
             "func_geometry": _sums(self.func_geometry),
             "sup_geometry": _sums(self.sup_geometry),
+            "mount_height": _sums(self.mount_height),
             "same_model": {c: list(acc) for c, acc in sorted(self.same_model.items())},
             "func_present": {
                 s: {a: counts(d) for a, d in sorted(pa.items())}
@@ -594,6 +606,10 @@ class HierarchyStats:
                 out.sup_geometry[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
                 if any(len(acc) != SUP_SUMS for acc in out.sup_geometry[d].values()):
                     raise ValueError(f"sup_geometry of {d}: {SUP_SUMS} sums per support expected")
+            for d, pa in doc.get("mount_height", {}).items():
+                out.mount_height[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
+                if any(len(acc) != 3 for acc in out.mount_height[d].values()):
+                    raise ValueError(f"mount_height of {d}: 3 sums per support expected")
             for sup, pa in doc.get("func_present", {}).items():
                 out.func_present[sup] = {
                     a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()
