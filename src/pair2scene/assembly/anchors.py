@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pair2scene.assembly.walls import faced_by
-from pair2scene.curation.stats import HierarchyStats, aligned
+from pair2scene.curation.stats import HierarchyStats, aligned, mean_std
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.relations import faces, footprint, footprint_gap
 from pair2scene.scene.walls import Wall
@@ -148,7 +148,7 @@ class AnchorRules(_PairRules):
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> AnchorRules:
         def make(n, facing, faced, total, squares) -> PairGeometry:
-            return PairGeometry(int(n), facing / n, faced / n, *_mean_std(n, total, squares))
+            return PairGeometry(int(n), facing / n, faced / n, *mean_std(n, total, squares))
 
         return cls._from_sums(stats.func_geometry, make)
 
@@ -281,7 +281,7 @@ class SpotRules(_PairRules):
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> SpotRules:
         def make(n, facing, su, suu, sv, svv, sw, sww) -> SpotGeometry:
-            u, v, w = _mean_std(n, su, suu), _mean_std(n, sv, svv), _mean_std(n, sw, sww)
+            u, v, w = mean_std(n, su, suu), mean_std(n, sv, svv), mean_std(n, sw, sww)
             return SpotGeometry(int(n), facing / n, u, v, w)
 
         return cls._from_sums(stats.sup_geometry, make)
@@ -301,8 +301,3 @@ class SpotRules(_PairRules):
             for mean, std in (rule.u, rule.v)
         )
         return SpotCheck(support_box, must, rule.window("u"), rule.window("v"), pin)
-
-
-def _mean_std(n: float, total: float, squares: float) -> tuple[float, float]:
-    mean = total / n
-    return mean, float(np.sqrt(max(squares / n - mean * mean, 0.0)))

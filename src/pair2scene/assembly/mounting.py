@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pair2scene.assembly.walls import faced_by, weighted_keys
-from pair2scene.curation.stats import HierarchyStats
+from pair2scene.curation.stats import HierarchyStats, mean_std
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import WALL, Opening, Room
 from pair2scene.scene.walls import AGAINST_GAP_M, Wall, wall_contact
@@ -102,8 +102,7 @@ class MountHeights:
             n, total, squares = per_support.get(WALL, (0.0, 0.0, 0.0))
             if n < HEIGHT_MIN_OBJECTS:
                 continue
-            mean = total / n
-            std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
+            mean, std = mean_std(n, total, squares)
             reach = HEIGHT_SPREAD * std + HEIGHT_MARGIN_M
             bands[category] = (mean - reach, mean + reach)
         return cls(bands)

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pair2scene.curation.stats import HierarchyStats
+from pair2scene.curation.stats import HierarchyStats, mean_std
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import Room
 from pair2scene.scene.walls import Wall
@@ -71,9 +71,7 @@ class WallRules:
             for anchor, (n, total, squares) in per_anchor.items():
                 if n < 1:
                     continue
-                mean = total / n
-                std = float(np.sqrt(max(squares / n - mean * mean, 0.0)))
-                distances.setdefault(dep, {})[anchor] = (mean, std)
+                distances.setdefault(dep, {})[anchor] = mean_std(n, total, squares)
         return cls(rates, distances, corners)
 
     def rate(self, room_type: str, category: str) -> float:

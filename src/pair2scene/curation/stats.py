@@ -116,6 +116,8 @@ ALIGNED_DEG = 45.0
 (:attr:`HierarchyStats.sup_geometry`)."""
 SUP_SUMS = 8
 """Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`."""
+MOUNT_SUMS = 3
+"""Running sums per mounted category in :attr:`HierarchyStats.mount_height`."""
 
 
 def aligned(relative_yaw: float) -> bool:
@@ -222,6 +224,13 @@ def _add_sums(table: dict[str, dict[str, list[float]]], dependent: str, anchor: 
     per_anchor = table.setdefault(dependent, {})
     old = per_anchor.get(anchor, [0.0] * len(sums))
     per_anchor[anchor] = [a + b for a, b in zip(old, sums)]
+
+
+def mean_std(n: float, total: float, squares: float) -> tuple[float, float]:
+    """(mean, standard deviation) of ``n`` values from their running sum and sum of
+    squares (the sums the tables of :class:`HierarchyStats` keep)."""
+    mean = total / n
+    return mean, float(np.sqrt(max(squares / n - mean * mean, 0.0)))
 
 
 def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
@@ -602,14 +611,13 @@ class HierarchyStats:
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
             for d, pa in doc.get("func_geometry", {}).items():
                 out.func_geometry[d] = {a: [float(v) for v in acc][:5] for a, acc in pa.items()}
-            for d, pa in doc.get("sup_geometry", {}).items():
-                out.sup_geometry[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
-                if any(len(acc) != SUP_SUMS for acc in out.sup_geometry[d].values()):
-                    raise ValueError(f"sup_geometry of {d}: {SUP_SUMS} sums per support expected")
-            for d, pa in doc.get("mount_height", {}).items():
-                out.mount_height[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
-                if any(len(acc) != 3 for acc in out.mount_height[d].values()):
-                    raise ValueError(f"mount_height of {d}: 3 sums per support expected")
+            exact = (("sup_geometry", out.sup_geometry, SUP_SUMS),
+                     ("mount_height", out.mount_height, MOUNT_SUMS))  # fmt: skip
+            for name, table, length in exact:
+                for d, pa in doc.get(name, {}).items():
+                    table[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
+                    if any(len(acc) != length for acc in table[d].values()):
+                        raise ValueError(f"{name} of {d}: {length} sums per support expected")
             for sup, pa in doc.get("func_present", {}).items():
                 out.func_present[sup] = {
                     a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()
