@@ -310,3 +310,40 @@ def test_an_object_on_a_support_does_not_reach_through_a_wall():
     assert model.drawn["house_plant"].corners()[:, 1].max() > 4.05  # drawn through it
     assert plant.box.corners()[:, 1].max() <= 4.0 + 2e-3
     assert result.stats.repaired >= 1
+
+
+class _PerCategory(_Fixed):
+    """A stand-in model drawing one given box per category (the centre may depend on the
+    query's size)."""
+
+    def draw(self, query, n, temperature, generator):
+        center = self.center[query.category](query.size)
+        box = OrientedBox.from_yaw(center, query.size, self.yaw)
+        return np.repeat(box.to_vector()[None], n, axis=0), None
+
+
+def test_what_rests_on_a_table_by_the_door_does_not_overhang_into_its_swing():
+    """A dining table stands just clear of the door's zone (0.9 m deep: the door's width);
+    a house plant drawn on its near edge, its foliage over the zone, is moved back onto
+    the table out of the zone, as a floor object would be."""
+    h = Hierarchy("living_room")
+    table = h.add("dining_table", FLOOR)
+    h.add("house_plant", table.id)
+    room = _door_room()
+    edge = 0.9 + 0.01  # the table's near edge, just clear of the zone
+    tops = {}
+
+    def table_at(size):
+        tops["z"] = float(size[2])
+        return [1.95, edge + size[1] / 2, size[2] / 2]
+
+    def plant_at(size):  # its box's near half over the zone, its pot on the table
+        return [1.95, edge + 0.6 * size[1] / 2, tops["z"] + size[2] / 2]
+
+    placer = Placer(_PerCategory({"dining_table": table_at, "house_plant": plant_at}))
+    result = placer.place(h.validate(), room, seed=0)
+    assert result.stats.placed == 2, result.stats.dropped
+    plant = next(o for o in result.scene.objects if o.category == "house_plant")
+    (zone,) = door_boxes(room, placer.config.door_clearance_m, room.height)
+    assert plant.box.corners()[:, 1].min() >= zone.corners()[:, 1].max() - 1e-6
+    assert plant.support == table.id and result.stats.repaired == 1

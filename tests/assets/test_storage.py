@@ -423,3 +423,47 @@ def test_counter_run_reaches_counter_height_with_its_top_a_support_surface():
         assert asset.size[2] == pytest.approx(0.9, abs=0.01)
         tops = [s.z + asset.size[2] / 2 for s in surfaces_of(asset)]
         assert max(tops) == pytest.approx(0.9, abs=0.02)
+
+
+@pytest.mark.parametrize("size", [(2.44, 1.83, 0.9), (3.05, 2.44, 0.92), (1.22, 1.22, 0.9)])
+def test_a_deep_counter_is_an_l_or_a_c_of_runs_with_open_floor_inside(size):
+    from pair2scene.assets.generators.storage import RUN_DEPTH_M
+    from pair2scene.assets.surfaces import surfaces_of
+
+    w, d, h = size
+    shapes = []
+    for seed in range(12):
+        asset = generate("counter_top", size, rng=seed, style=seed % 3)
+        np.testing.assert_allclose(asset.mesh.bounds, [-np.divide(size, 2), np.divide(size, 2)],
+                                   atol=1e-6)  # fmt: skip
+        assert 1 <= len(asset.parts) < 60
+        names = [p.name for p in asset.parts]
+        assert len(set(names)) == len(names), "part names are unique"
+        assert all(p.mesh.is_convex() and p.mesh.is_watertight() for p in asset.parts)
+        (top,) = [s for s in surfaces_of(asset) if s.z > h / 2 - 0.01]  # the counter top
+        run = RUN_DEPTH_M[0] * 0.9
+
+        def inside(x: float, y: float, top=top) -> bool:
+            return bool(top.contains(np.array([[x, y]]))[0])
+
+        assert inside(0.0, -d / 2 + run / 2), "a run along the back"
+        assert inside(w / 2 - run / 2, d / 2 - 0.05), "a run down the right side"
+        assert not inside(0.0, d / 2 - 0.05), "open in the middle of the front"
+        right = [p for p in asset.parts if p.name.startswith("right_")]
+        assert right and all(p.name.startswith(("back_", "right_", "left_")) for p in asset.parts)
+        # the side run's doors and drawers face the inside (-x), away from the wall at +x
+        fronts = [p for p in right if "door" in p.name or "drawer" in p.name]
+        assert max(p.mesh.bounds[1][0] for p in fronts) < w / 2 - 0.3
+        shapes.append("C" if inside(-w / 2 + run / 2, d / 2 - 0.05) else "L")
+        assert top.area < 0.75 * w * d
+    assert set(shapes) == {"L", "C"} or size == (1.22, 1.22, 0.9)  # too narrow for a C
+
+
+def test_a_straight_counter_or_an_island_stays_one_block():
+    from pair2scene.assets.surfaces import surfaces_of
+
+    for size in [(2.44, 0.61, 0.9), (1.83, 0.92, 0.9)]:
+        asset = generate("counter_top", size, rng=3, style=1)
+        assert not any(p.name.startswith(("back_", "right_")) for p in asset.parts)
+        (top,) = [s for s in surfaces_of(asset) if s.z > size[2] / 2 - 0.01]
+        assert top.area == pytest.approx(size[0] * size[1], rel=0.02)

@@ -79,6 +79,7 @@ from pair2scene.assembly.walls import (
     free_length,
     free_stretches,
     to_corners,
+    turn_sideways,
     wall_order,
     within_reach,
 )
@@ -138,8 +139,10 @@ class AssemblyConfig:
     temperature: float = 0.8
     """Sampling temperature: below 1 favours the model's confident modes."""
     door_clearance_m: float = 0.8
-    """Depth in front of (and behind) a door that floor objects must leave free; at least
-    the door's width (the swing of its leaf)."""
+    """Depth in front of (and behind) a door that objects standing in the room must leave
+    free, up to the ceiling; at least the door's width (the swing of its leaf). What rests
+    on a table by the door must not overhang into it either (a house plant on a dining
+    table did, in one of 30 ``beyond`` living rooms)."""
     ceiling_margin_m: float = 0.05
     """Objects must end this far below the ceiling."""
     snap_yaw_deg: float = 45.0
@@ -281,6 +284,14 @@ class AssemblyConfig:
     candidate is first tried slid along its wall into its convex corners, the nearer
     first (:func:`~pair2scene.assembly.walls.to_corners`), then as drawn. Needs
     ``walls``."""
+    sideways: bool = True
+    """A floor object drawn against a wall stands with a side, not its back, against it
+    as often as the training rooms' did (per room type and category,
+    :meth:`~pair2scene.assembly.walls.WallRules.sideways_rate`: 0.20 of the living-room
+    sofas against a wall, their arm to it, facing along it): each candidate is first
+    tried turned that way at its place along the wall, facing the room's side of it
+    (:func:`~pair2scene.assembly.walls.turn_sideways`), then as drawn; such an object is
+    put in no corner. Needs ``walls``."""
     matching: bool = True
     """Floor objects of one category in a room are one model (size, style and mesh of the
     first) as often as in the training rooms
@@ -683,13 +694,15 @@ class Placer:
             if mounted and framed and cfg.mount_heights and self.heights is not None:
                 context.heights = self.heights
             hung_across = None if node.id not in across or functional is None else functional.box
+            along_wall = on_floor_ and framed and queries[0][1] is not None
+            context.sideways = (along_wall and cfg.walls and node.id not in backed
+                                and self._sideways(node, room, seed))  # fmt: skip
             ends = None  # the room's convex corners, when this object stands in one
             if (
-                on_floor_
-                and framed
+                along_wall
                 and cfg.corners
+                and not context.sideways
                 and self.walls is not None
-                and queries[0][1] is not None
                 and self.walls.in_corner(room.type, node.category, asset_seed(node.id, seed))
             ):
                 ends = convex_ends(walls_of(room.floor_polygon))
@@ -833,14 +846,15 @@ class Placer:
         if not backed and not self.walls.against_wall(room.type, node.category, seed_):
             return []
         size = np.asarray(query.size, float)
+        width, depth = size[:2]  # along the wall and into the room
+        if not backed and self._sideways(node, room, seed):
+            width, depth = depth, width
         walls = walls_of(room.floor_polygon)
         boxes = _floor_boxes(placed)
-        free = [
-            free_length(free_stretches(w, room, boxes, size[1], size[2]), size[0]) for w in walls
-        ]
+        free = [free_length(free_stretches(w, room, boxes, depth, size[2]), width) for w in walls]
         if check is not None and not check.across:
             gap = check.max_gap + self.config.wall_snap_m
-            free = [f if within_reach(w, check.anchor, size[1], gap, size[0], check.must_face)
+            free = [f if within_reach(w, check.anchor, depth, gap, width, check.must_face)
                     else 0.0 for w, f in zip(walls, free)]  # fmt: skip
             if not any(f > 0 for f in free):
                 return []  # no wall near its anchor: drawn at the anchor instead
@@ -852,6 +866,15 @@ class Placer:
         in_front = check is not None and check.in_front
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
+
+    def _sideways(self, node, room: Room, seed: int) -> bool:
+        """Whether floor object ``node``, if it stands against a wall, stands sideways to
+        it (:attr:`AssemblyConfig.sideways`; a draw of the wall rules)."""
+        return (
+            self.config.sideways
+            and self.walls is not None
+            and self.walls.turned(room.type, node.category, asset_seed(node.id, seed))
+        )
 
     def _hangs_across(self, node, anchor: str | None, nodes: dict, seed: int, framed: bool) -> bool:
         """Whether mounted ``node`` hangs across the room from its floor anchor ``anchor``
@@ -1034,7 +1057,7 @@ class Placer:
         if ctx.wall is not None and wall_contact(box, [ctx.wall]) is None:
             return "off_wall", []  # pushed off the wall it was drawn against
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
-        if ctx.support == FLOOR and ctx.doors[0]:
+        if ctx.mount is None and ctx.doors[0]:  # (what rests on a table may overhang it)
             doors = ctx.doors[1].overlaps(center, half, rot)[0]
             if doors.any():
                 return "door", list(np.flatnonzero(doors))
@@ -1076,8 +1099,11 @@ def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | N
     of the corner it was slid into (None for the others): slid into each corner of its
     wall, the nearer one first, when the object is to stand in one
     (:attr:`_Context.corner`; a corner it missed :data:`CORNER_TRIES` times is left out);
-    moved onto its pinned spot on its support
-    (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`); then as drawn."""
+    turned to stand sideways to its wall (:attr:`_Context.sideways`); moved onto its
+    pinned spot on its support (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`);
+    then as drawn."""
+    if ctx.sideways and ctx.wall is not None:
+        return [(None, turn_sideways(box, ctx.wall, ctx.room.bounds.center)), (None, box)]
     if ctx.corner is not None and ctx.wall is not None:
         index = ctx.wall.index
         corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
@@ -1124,6 +1150,8 @@ class _Context:
     corner_misses: dict = field(default_factory=dict)
     """(wall index, end) -> how many of this object's candidates slid into that corner
     did not pass."""
+    sideways: bool = False
+    """The object is to stand with a side against ``wall``, not its back."""
     mount: Wall | None = None
     """The wall a mounted object's candidates hang on (None: not mounted)."""
     heights: MountHeights | None = None

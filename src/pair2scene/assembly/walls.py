@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pair2scene.curation.stats import HierarchyStats, mean_std
-from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import Room
 from pair2scene.scene.walls import Wall
 
@@ -34,6 +34,8 @@ _SALT = 18
 """Mixed into the object's seed for the wall draw (independent of its asset's draws)."""
 _CORNER_SALT = 23
 """The same for the corner draw."""
+_SIDEWAYS_SALT = 29
+"""The same for the sideways draw."""
 CORNER_GAP_M = 0.005
 """Gap left between an object put in a corner and the second wall."""
 
@@ -49,8 +51,11 @@ class WallRules:
     """dependent -> functional anchor -> (mean, std) of the anchor's distance (m) from the
     dependent's wall."""
     corners: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
-    """room type -> category -> (in a corner, against a wall): how many of the objects
-    against a wall stood against two at once."""
+    """room type -> category -> (in a corner, back against a wall): how many of the
+    objects with their back against a wall stood against two at once."""
+    sideways: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
+    """room type -> category -> (sideways, against a wall): how many of the objects
+    against a wall had a side against it and their back against none (a sofa's arm)."""
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> WallRules:
@@ -62,8 +67,15 @@ class WallRules:
             rt: {c: (rs.against_wall.get(c, 0), n) for c, n in rs.on_floor.items()}
             for rt, rs in types.items()
         }
-        corners = {
-            rt: {c: (rs.in_corner.get(c, 0), n) for c, n in rs.against_wall.items()}
+        corners = {  # (an object with only a side against a wall is in no corner)
+            rt: {
+                c: (rs.in_corner.get(c, 0), n - rs.sideways.get(c, 0))
+                for c, n in rs.against_wall.items()
+            }
+            for rt, rs in types.items()
+        }
+        sideways = {
+            rt: {c: (rs.sideways.get(c, 0), n) for c, n in rs.against_wall.items()}
             for rt, rs in types.items()
         }
         distances: dict[str, dict[str, tuple[float, float]]] = {}
@@ -72,16 +84,12 @@ class WallRules:
                 if n < 1:
                     continue
                 distances.setdefault(dep, {})[anchor] = mean_std(n, total, squares)
-        return cls(rates, distances, corners)
+        return cls(rates, distances, corners, sideways)
 
     def rate(self, room_type: str, category: str) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
         every room type when this one never held it; 0 when none did)."""
-        against, n = self.rates.get(room_type, {}).get(category, (0, 0))
-        if n == 0:
-            pooled = [r[category] for r in self.rates.values() if category in r]
-            against, n = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
-        return against / n if n else 0.0
+        return _share(self.rates, room_type, category)
 
     def against_wall(self, room_type: str, category: str, seed: int) -> bool:
         """Whether an object (``seed``: its asset seed) stands against a wall: a draw."""
@@ -91,12 +99,7 @@ class WallRules:
     def corner_rate(self, room_type: str, category: str) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         in a corner (over every room type when this one never had one against a wall)."""
-        table = self.corners
-        inside, n = table.get(room_type, {}).get(category, (0, 0))
-        if n == 0:
-            pooled = [r[category] for r in table.values() if category in r]
-            inside, n = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
-        return inside / n if n else 0.0
+        return _share(self.corners, room_type, category)
 
     def in_corner(self, room_type: str, category: str, seed: int) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
@@ -104,9 +107,30 @@ class WallRules:
         u = np.random.default_rng([seed, _CORNER_SALT]).random()
         return bool(u < self.corner_rate(room_type, category))
 
+    def sideways_rate(self, room_type: str, category: str) -> float:
+        """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
+        with a side, not their back, against it (pooled as :meth:`rate`)."""
+        return _share(self.sideways, room_type, category)
+
+    def turned(self, room_type: str, category: str, seed: int) -> bool:
+        """Whether an object against a wall (``seed``: its asset seed) stands sideways to
+        it: a draw, independent of the wall and corner draws."""
+        u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
+        return bool(u < self.sideways_rate(room_type, category))
+
     def distance(self, dependent: str, anchor: str) -> tuple[float, float] | None:
         """(mean, std) of ``anchor``'s distance from ``dependent``'s wall, if learned."""
         return self.distances.get(dependent, {}).get(anchor)
+
+
+def _share(table: dict[str, dict[str, tuple[float, float]]], room_type: str, category: str):
+    """``part / whole`` of ``table[room_type][category]``, pooled over every room type
+    when this one has no whole for the category; 0 when none has."""
+    part, whole = table.get(room_type, {}).get(category, (0, 0))
+    if whole <= 0:
+        pooled = [r[category] for r in table.values() if category in r]
+        part, whole = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
+    return min(1.0, part / whole) if whole > 0 else 0.0
 
 
 def intervals_minus(free: list[tuple[float, float]], lo: float, hi: float):
@@ -194,6 +218,20 @@ def to_corners(
         center[:2] += shift * wall.direction
         out.append((end, OrientedBox(center, box.size, box.rotation)))
     return out
+
+
+def turn_sideways(
+    box: OrientedBox, wall: Wall, toward: np.ndarray, gap: float = CORNER_GAP_M
+) -> OrientedBox:
+    """``box`` turned to stand with a side against ``wall``, ``gap`` off it, where its
+    centre was along the wall, its front pointing along the wall to the side of
+    ``toward`` (a point, xy: the room's centre, so that it faces into the room)."""
+    along = float(wall.local(box.center[:2])[0])
+    ahead = float(wall.local(np.asarray(toward, dtype=float)[:2])[0])
+    front = wall.direction if ahead >= along else -wall.direction
+    center = box.center.copy()
+    center[:2] = wall.midpoint + along * wall.direction + (box.half_size[0] + gap) * wall.normal
+    return OrientedBox(center, box.size, yaw_to_matrix(float(np.arctan2(-front[0], front[1]))))
 
 
 def free_length(stretches: list[tuple[float, float]], width: float) -> float:

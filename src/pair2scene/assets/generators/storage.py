@@ -33,6 +33,7 @@ import numpy as np
 from pair2scene.assets.generators.shapes import ROD_SEGMENTS, ROUND_SEGMENTS, clip, slab
 from pair2scene.assets.mesh import Part, box, box_between, cylinder, frustum, hull
 from pair2scene.assets.registry import register
+from pair2scene.scene.geometry import rot_z
 
 TOP_SNAP_M = 0.05
 """A support height this close below the top is the top panel itself (issue's tolerance)."""
@@ -747,17 +748,71 @@ def cabinet(
     return _finish(parts, h)
 
 
+SHAPED_COUNTER_M = 1.1
+"""A counter deeper and wider than this is an L or a C of cabinet runs, not a block: the
+ProcTHOR-1k kitchens' straight runs are 0.61 m deep and their islands 0.92 m, their L and
+C counters 1.22 to 3.05 m (62 L, 26 C of 146 counters in the train kitchens)."""
+C_SHARE = 26 / 88
+"""Of the shaped counters, the share that are a C (a run along the back and one down each
+side); the others are an L (the back and the right side, +x: where the training rooms'
+objects stand on them)."""
+RUN_DEPTH_M = (0.56, 0.64)
+"""Depth of a shaped counter's runs (ProcTHOR's are 2 ft, 0.61 m)."""
+SHAPED_COLUMNS = (3, 2)
+"""At most this many columns of doors and drawers on a shaped counter's back run and on
+each side run: a C stays under 60 parts."""
+
+
 @register("counter_top", variants=3, fits_support_heights=True)
 def counter_top(
     size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
 ) -> list[Part]:
-    """Kitchen counter block: a top slab overhanging at +y over a base cabinet on a recessed
-    plinth (toe kick).
+    """Kitchen counter: a base cabinet on a recessed plinth (toe kick) under a top slab
+    overhanging at +y; deeper and wider than :data:`SHAPED_COUNTER_M`, an L (a run along
+    the back and one down the right side, its doors facing in) or a C (and one down the
+    left side too) of such runs, the open floor inside.
 
     Styles: 0 a drawer above a door in every column; 1 doors only; 2 drawer stacks
     alternating with door columns.
     """
     w, d, h = size
+    if min(w, d) < SHAPED_COUNTER_M:
+        return _finish(_counter_run(w, d, h, rng, style, support_heights), h)
+    legs = 2 if rng.random() < C_SHARE else 1
+    run = min(rng.uniform(*RUN_DEPTH_M), 0.45 * d, 0.9 * w / (legs + 1))
+    seed = int(rng.integers(2**32))  # every run built alike (top, kick, door widths)
+
+    def built(width: float, prefix: str, cols: int) -> list[Part]:
+        parts = _counter_run(
+            width, run, h, np.random.default_rng(seed), style, support_heights, cols
+        )
+        return [Part(prefix + p.name, p.mesh) for p in parts]
+
+    parts = [Part(p.name, p.mesh.transformed(None, (0.0, (run - d) / 2, 0.0)))
+             for p in built(w, "back_", SHAPED_COLUMNS[0])]  # fmt: skip
+    length = d - run  # a side run: from the back run's front to the counter's front
+    for side in (1.0, -1.0)[:legs]:  # its front faces the inside, its back the side
+        turn = rot_z(side * np.pi / 2)
+        shift = (side * (w - run) / 2, run / 2, 0.0)
+        prefix = "right_" if side > 0 else "left_"
+        parts += [
+            Part(p.name, p.mesh.transformed(turn, shift))
+            for p in built(length, prefix, SHAPED_COLUMNS[1])
+        ]
+    return _finish(parts, h)
+
+
+def _counter_run(
+    w: float,
+    d: float,
+    h: float,
+    rng: np.random.Generator,
+    style: int,
+    support_heights: Sequence[float] | None,
+    max_cols: int = 8,
+) -> list[Part]:
+    """One straight counter run, w by d by h, centred on the origin in x and y, its bottom
+    at z = 0, its front at +y, with at most ``max_cols`` columns of doors and drawers."""
     top_t = min(clip(0.05 * d, 0.025, MAX_TOP_M), 0.1 * h) * rng.uniform(0.9, 1.1)
     # handles stop just short of the slab's front edge: the overhang protects them
     front = _Front.at(d / 2 - clip(0.01 * d, 0.003, 0.008), d)
@@ -773,7 +828,7 @@ def counter_top(
     recess = min(clip(0.1 * d, 0.03, 0.07), 0.3 * (front.y_carcass - y0))
     _base(parts, False, x0 + t, x1 - t, y0, front.y_carcass, levels[0].bottom, recess)
     parts.append(slab("top", (x0, y0, ceiling), (x1, d / 2, h)))
-    cols = int(np.clip(round(w / rng.uniform(0.45, 0.6)), 1, 8))
+    cols = int(np.clip(round(w / rng.uniform(0.45, 0.6)), 1, max_cols))
     xs = _splits(x0, x1, [1.0] * cols)
     sides = _door_sides(cols)
     for s, (z0, z1) in enumerate(slots):
@@ -798,7 +853,7 @@ def counter_top(
             parts += front.door(
                 f"door_{name}", xs[c], xs[c + 1], z0, zd, sides[c], knob=False, handle_z=zd
             )
-    return _finish(parts, h)
+    return parts
 
 
 @register("wardrobe", variants=3)
