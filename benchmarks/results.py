@@ -253,8 +253,8 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
         "(3D-Pairs v3, 17,887 tuples; the bundled model was trained on it, 40 epochs); "
         "VARIANTS holds `pair2scene train --variant V` checkpoints (`--train-missing` trains "
-        "them; this run's were trained on the same PAIRS: `class-only` 40 epochs, `global` "
-        "6; `no-pretrain`, 30 minutes of training for 2 epochs, was not trained).",
+        "them; this run's were trained on the same PAIRS by `--train-missing`, the cpu preset: "
+        "`class-only` and `global` 40 epochs, `no-pretrain` 2 epochs, 22 minutes).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "
