@@ -664,9 +664,11 @@ class Placer:
             query = PlacementQuery(node.category, asset.size, support, functional, bounds,
                                    asset=asset, region=region)  # fmt: skip
             queries = [(query, None)]
+            turned = False  # stands sideways to its wall, if it stands against one
             if item.support == FLOOR:
+                turned = node.id not in backed and self._sideways(node, room, seed)
                 queries = self._wall_queries(query, node, room, placed, seed, check,
-                                             node.id in backed) or queries  # fmt: skip
+                                             node.id in backed, turned) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
                                               dressed, over, node.id in across,
@@ -695,8 +697,7 @@ class Placer:
                 context.heights = self.heights
             hung_across = None if node.id not in across or functional is None else functional.box
             along_wall = on_floor_ and framed and queries[0][1] is not None
-            context.sideways = (along_wall and cfg.walls and node.id not in backed
-                                and self._sideways(node, room, seed))  # fmt: skip
+            context.sideways = along_wall and turned
             ends = None  # the room's convex corners, when this object stands in one
             if (
                 along_wall
@@ -834,12 +835,12 @@ class Placer:
 
     def _wall_queries(
         self, query, node, room: Room, placed: dict[str, _Placed], seed: int,
-        check: AnchorCheck | None = None, backed: bool = False,
+        check: AnchorCheck | None = None, backed: bool = False, turned: bool = False,
     ) -> list:  # fmt: skip
         """(``query`` in a wall's frame, the wall) once per wall to try, best first
         (:func:`wall_order`), when the wall rules put this floor object against a wall
         (always when a painting or mirror hangs over it: ``backed``) and a wall has room
-        for it; else []."""
+        for it (``turned``: for its side, :meth:`_sideways`); else []."""
         if self.walls is None or not self.config.walls:
             return []
         seed_ = asset_seed(node.id, seed)
@@ -847,7 +848,7 @@ class Placer:
             return []
         size = np.asarray(query.size, float)
         width, depth = size[:2]  # along the wall and into the room
-        if not backed and self._sideways(node, room, seed):
+        if turned:
             width, depth = depth, width
         walls = walls_of(room.floor_polygon)
         boxes = _floor_boxes(placed)

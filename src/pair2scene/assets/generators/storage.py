@@ -782,23 +782,20 @@ def counter_top(
     run = min(rng.uniform(*RUN_DEPTH_M), 0.45 * d, 0.9 * w / (legs + 1))
     seed = int(rng.integers(2**32))  # every run built alike (top, kick, door widths)
 
-    def built(width: float, prefix: str, cols: int) -> list[Part]:
+    def built(width: float, prefix: str, cols: int, turn, shift) -> list[Part]:
+        """A run ``width`` long, its parts named with ``prefix``, turned and moved into
+        place."""
         parts = _counter_run(
             width, run, h, np.random.default_rng(seed), style, support_heights, cols
         )
-        return [Part(prefix + p.name, p.mesh) for p in parts]
+        return [Part(prefix + p.name, p.mesh.transformed(turn, shift)) for p in parts]
 
-    parts = [Part(p.name, p.mesh.transformed(None, (0.0, (run - d) / 2, 0.0)))
-             for p in built(w, "back_", SHAPED_COLUMNS[0])]  # fmt: skip
-    length = d - run  # a side run: from the back run's front to the counter's front
+    parts = built(w, "back_", SHAPED_COLUMNS[0], None, (0.0, (run - d) / 2, 0.0))
     for side in (1.0, -1.0)[:legs]:  # its front faces the inside, its back the side
-        turn = rot_z(side * np.pi / 2)
-        shift = (side * (w - run) / 2, run / 2, 0.0)
         prefix = "right_" if side > 0 else "left_"
-        parts += [
-            Part(p.name, p.mesh.transformed(turn, shift))
-            for p in built(length, prefix, SHAPED_COLUMNS[1])
-        ]
+        # a side run: from the back run's front to the counter's front
+        parts += built(d - run, prefix, SHAPED_COLUMNS[1], rot_z(side * np.pi / 2),
+                       (side * (w - run) / 2, run / 2, 0.0))  # fmt: skip
     return _finish(parts, h)
 
 
