@@ -63,16 +63,17 @@ def test_facing_is_measured_towards_the_nearest_side_of_the_anchor():
 def test_statistics_learn_facing_shares_gaps_and_who_stood_beside_an_anchor():
     scenes = [_dining(i, turned=i == 0) for i in range(4)]
     stats = HierarchyStats.fit(scenes)
-    n, facing, faced, total, squares = stats.func_geometry["chair"]["dining_table"]
+    n, facing, faced, total, squares, behind = stats.func_geometry["chair"]["dining_table"]
     assert (n, facing) == (16, 15)  # one of the 16 turned sideways
     assert faced == 8  # the table's +y points at the north side's chairs
+    assert behind == 8  # the others stand by its back half (south, its -y)
     assert total / n == pytest.approx(0.05, abs=0.01)  # 5 cm from the table's edge
     # chairs beside a table: all 5 per room (the lone one too); the armchair as well
     assert stats.func_present[FLOOR]["dining_table"]["chair"] == 20
     assert stats.func_present[FLOOR]["dining_table"]["armchair"] == 4
     assert stats.func_present[FLOOR]["chair"]["chair"] == 20  # another chair beside each
     back = HierarchyStats.from_json(stats.to_json())
-    learned = [16, 15, 8, total, squares]
+    learned = [16, 15, 8, total, squares, 8]
     assert back.func_geometry["chair"]["dining_table"] == pytest.approx(learned)
     assert back.func_present == stats.func_present
     merged = HierarchyStats.merge([HierarchyStats.fit(scenes[:2]), HierarchyStats.fit(scenes[2:])])

@@ -467,3 +467,31 @@ def test_a_straight_counter_or_an_island_stays_one_block():
         assert not any(p.name.startswith(("back_", "right_")) for p in asset.parts)
         (top,) = [s for s in surfaces_of(asset) if s.z > size[2] / 2 - 0.01]
         assert top.area == pytest.approx(size[0] * size[1], rel=0.02)
+
+
+def test_a_counter_asked_solid_is_one_block_whatever_its_size():
+    """Curation's physics check stands a source's objects on a counter whose shape the
+    box does not tell (``generate(..., solid=True)``): its top is whole, where the same
+    seed builds an L or a C; a straight counter is the same asset either way."""
+    from pair2scene.assets.surfaces import surfaces_of
+
+    size = (2.44, 1.83, 0.9)
+    for seed in range(4):
+        shaped = generate("counter_top", size, rng=seed)
+        solid = generate("counter_top", size, rng=seed, solid=True)
+        assert any(p.name.startswith("right_") for p in shaped.parts)
+        assert not any(p.name.startswith(("back_", "right_", "left_")) for p in solid.parts)
+        (top,) = [s for s in surfaces_of(solid) if s.z > size[2] / 2 - 0.01]
+        assert top.area == pytest.approx(size[0] * size[1], rel=0.02)
+    straight = (2.44, 0.61, 0.9)
+    a, b = generate("counter_top", straight, rng=5), generate("counter_top", straight, rng=5,
+                                                                solid=True)  # fmt: skip
+    assert [p.name for p in a.parts] == [p.name for p in b.parts]
+    for p, q in zip(a.parts, b.parts):
+        np.testing.assert_array_equal(p.mesh.vertices, q.mesh.vertices)
+    # a category with no solid form is built as usual
+    chair = generate("chair", (0.5, 0.5, 0.9), rng=1)
+    assert chair is not generate("chair", (0.5, 0.5, 0.9), rng=1, solid=True)  # (own key)
+    assert [p.name for p in chair.parts] == [
+        p.name for p in generate("chair", (0.5, 0.5, 0.9), rng=1, solid=True).parts
+    ]

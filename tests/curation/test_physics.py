@@ -209,3 +209,18 @@ def test_food_stands_in_a_fridge_and_on_a_table():
     for seed in range(3):
         out = validate_physics(_scene(objs), config=PhysicsConfig(seed=seed))
         assert out.dropped == {}, (seed, out.dropped)
+
+
+def test_objects_on_a_deep_counter_stand_wherever_its_top_was():
+    """A 2.44 x 1.83 m counter is built as an L or a C of runs for generation, open in
+    the front middle; the source's counter may be an island or a C of another hand, so
+    the check stands its objects on the counter's solid form and keeps a mug there."""
+    size = (2.44, 1.83, 0.9)
+    counter = _obj("counter_0", "counter_top", (0.0, 0.0, size[2] / 2), size)
+    mugs = [
+        _obj(f"mug_{k}", "mug", (x, y, size[2] + MUG_SIZE[2] / 2), MUG_SIZE, support="counter_0")
+        for k, (x, y) in enumerate([(0.0, 0.7), (0.0, -0.6)])  # the front middle, the back
+    ]
+    out = validate_physics(_scene([counter, *mugs]))
+    assert out.dropped == {}, out.dropped
+    assert {"mug_0", "mug_1"} <= {o.id for o in out.scene.objects}

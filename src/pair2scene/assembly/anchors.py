@@ -13,10 +13,13 @@ the share of dependents whose front points at the anchor's footprint
 (:func:`~pair2scene.scene.relations.faces`: chairs at dining tables 0.98, nightstands
 beside beds 0.08, a floor lamp by an armchair 0.27), the share that stand where the
 anchor's front points at them (a TV stand in front of its sofa 0.73, a chair at a desk
-0.81, at a dining table 0.20) and the spread of the gap between their footprints. Per
-object, the placer draws whether it faces its anchor and whether it stands in front of
-it (each with the learned share, seeded by the object's id and the scene seed) and
-rejects candidates that do not (``faces_away``, ``not_in_front``) or that stand farther
+0.81, at a dining table 0.20), the share of the others that stand by the anchor's back
+half (a nightstand by the head of its bed, 30 of 31) and the spread of the gap between
+their footprints. Per object, the placer draws whether it faces its anchor, whether it
+stands in front of it and, if not and the pair keeps to a half (:data:`HALF_MIN_SHARE`),
+by which half (each with the learned share, seeded by the object's id and the scene
+seed) and rejects candidates that do not (``faces_away``, ``not_in_front``,
+``wrong_half``) or that stand farther
 from the anchor than the training rooms' pairs do (``far_from_anchor``,
 :attr:`PairGeometry.max_gap`; an across-the-room pair on the wall the anchor faces is
 exempt, :meth:`AnchorCheck.reason`). An object none of whose candidates passes is
@@ -59,6 +62,12 @@ and its sofa: 1.84 m in the training rooms); the others side by side (a chair an
 table 0.00 m, a floor lamp and its armchair 0.19 m, a coffee table and its sofa 0.42 m)."""
 _SALT = 19
 """Mixed into the object's seed for the facing draw (independent of its other draws)."""
+HALF_MIN_SHARE = 0.8
+"""A pair whose dependents, of those their anchor does not face, stood by one half of it
+(behind its middle, or before it) at least this often in the training rooms keeps each to
+a half, drawn with that share (:attr:`PairGeometry.behind`): a nightstand by the head of
+its bed (30 of 31), a plunger by a toilet's tank (23 of 23). Below it (a chair at a
+dining table 0.68, a floor lamp by an armchair 0.42) either half is taken."""
 
 
 @dataclass(frozen=True)
@@ -72,6 +81,11 @@ class PairGeometry:
     """Share of dependents standing where their anchor faces them."""
     gap_mean: float
     gap_std: float
+    behind: float | None = None
+    """Share of the dependents their anchor does not face that stood by its back half
+    (their centre behind its middle, in its frame); None where that is unknown (older
+    statistics) or undecided (between ``1 - HALF_MIN_SHARE`` and
+    :data:`HALF_MIN_SHARE`, or fewer than :data:`MIN_PAIRS` such dependents)."""
 
     @property
     def max_gap(self) -> float:
@@ -90,6 +104,9 @@ class AnchorCheck:
     """Whether the object must stand where the anchor's front points at it."""
     across: bool = False
     """Whether the pair stands across the room (:data:`ACROSS_M`)."""
+    half: int = 0
+    """-1: the object must stand by the anchor's back half (its centre behind the
+    anchor's middle, in the anchor's frame), 1: by its front half, 0: either."""
 
     def reason(self, box: OrientedBox, wall: Wall | None = None) -> str | None:
         """Why ``box`` cannot stand where it is relative to the anchor, or None.
@@ -103,6 +120,8 @@ class AnchorCheck:
             return "faces_away"
         if self.in_front and not faces(self.anchor, box):
             return "not_in_front"
+        if self.half and (self.anchor.to_local(box.center[None])[0, 1] < 0.0) != (self.half < 0):
+            return "wrong_half"
         if self.across and wall is not None and faced_by(wall, self.anchor):
             return None
         if footprint_gap(footprint(box), footprint(self.anchor)) > self.max_gap:
@@ -147,8 +166,13 @@ class AnchorRules(_PairRules):
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> AnchorRules:
-        def make(n, facing, faced, total, squares) -> PairGeometry:
-            return PairGeometry(int(n), facing / n, faced / n, *mean_std(n, total, squares))
+        def make(n, facing, faced, total, squares, behind=None) -> PairGeometry:
+            share = None
+            if behind is not None and n - faced >= MIN_PAIRS:
+                share = behind / (n - faced)
+                share = share if max(share, 1.0 - share) >= HALF_MIN_SHARE else None
+            return PairGeometry(int(n), facing / n, faced / n, *mean_std(n, total, squares),
+                                share)  # fmt: skip
 
         return cls._from_sums(stats.func_geometry, make)
 
@@ -157,12 +181,16 @@ class AnchorRules(_PairRules):
     ) -> AnchorCheck | None:
         """The test for one object (``seed``: its asset seed) at an anchor of category
         ``anchor`` standing at ``anchor_box``; None when the pair has no rule."""
-        drawn = self._drawn(dependent, anchor, seed, _SALT, 2)
+        drawn = self._drawn(dependent, anchor, seed, _SALT, 3)
         if drawn is None:
             return None
         rule, u = drawn
-        return AnchorCheck(anchor_box, rule.max_gap, bool(u[0] < rule.facing),
-                           bool(u[1] < rule.faced), rule.gap_mean > ACROSS_M)  # fmt: skip
+        in_front = bool(u[1] < rule.faced)
+        half = 0  # (in front of the anchor: its front half already)
+        if not in_front and rule.behind is not None:
+            half = -1 if u[2] < rule.behind else 1
+        return AnchorCheck(anchor_box, rule.max_gap, bool(u[0] < rule.facing), in_front,
+                           rule.gap_mean > ACROSS_M, half)  # fmt: skip
 
     def across(self, dependent: str, anchor: str, seed: int) -> bool:
         """Whether a mounted object (``seed``: its asset seed) hangs on a wall its floor

@@ -49,6 +49,7 @@ from pair2scene.assembly.collision import (
     Tolerances,
     clearing_move,
 )
+from pair2scene.assembly.hanging import draped, hang, hangs_on, hung_size
 from pair2scene.assembly.mounting import (
     HANGS_OVER,
     MAX_COVER,
@@ -121,6 +122,10 @@ its draws are a stream of their own, apart from the asset draws seeded by
 SPOT_RETRIES = 8
 """Candidates rejected only for standing off their spot on the support that are moved
 onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
+HALF_RETRIES = 32
+"""Candidates rejected only for standing by the other half of their functional anchor
+(``wrong_half``) that are tried again, either half taken, when no candidate passed: the
+half is a preference the training rooms show, not a reason to leave an object out."""
 
 
 def _flag(name: str) -> str:
@@ -220,9 +225,11 @@ class AssemblyConfig:
     """Keep a floor object with a functional anchor at it as the training rooms do
     (:class:`~pair2scene.assembly.anchors.AnchorRules`, per dependent and anchor
     category): facing it as often as they faced theirs (chairs their table), in front of
-    it as often (a TV stand in front of the sofa), and no farther from it than they
-    stood; candidates that do not are rejected (``faces_away``, ``not_in_front``,
-    ``far_from_anchor``) and an object none of whose candidates passes is dropped; a
+    it as often (a TV stand in front of the sofa), by the half of it theirs stood by
+    (a nightstand by the head of its bed) and no farther from it than they stood;
+    candidates that do not are rejected (``faces_away``, ``not_in_front``,
+    ``wrong_half``, ``far_from_anchor``) and an object none of whose candidates passes
+    is dropped; a
     wall object with a floor anchor hangs across the room from it as often as theirs did
     (a TV facing the sofa; :meth:`~pair2scene.assembly.anchors.AnchorRules.across`), else
     over it. Only for a model that draws in its anchors' frames (``draws_in_frames``; not
@@ -512,6 +519,10 @@ class Placer:
                     continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
             held = assets.get(item.support) if item.support != FLOOR else None
+            if held is not None and hangs_on(node.category, held):  # a towel on its rail
+                size = hung_size(self.sizes.draw(node.category, rng, fits=draped), held)
+                assets[node.id] = generate(node.category, size, int(rng.integers(2**31)))
+                continue
             margins = [None]
             if held is not None:
                 margins = [FIT_MARGIN]
@@ -630,7 +641,15 @@ class Placer:
                 )
                 continue
             asset = assets[node.id]
-            if item.support != FLOOR and not mounted and cfg.reject and cfg.gravity:
+            hung_box = None  # where a towel hangs on its holder (by rule, not drawn)
+            if item.support in placed and hangs_on(node.category, placed[item.support].asset):
+                holder = placed[item.support]
+                hung_box = hang(asset, holder.asset, holder.box, cfg.tolerances)
+                if hung_box is None:
+                    why = f"too wide for every bar of {item.support}"
+                    stats.dropped.append(Dropped(node.id, node.category, why))
+                    continue
+            elif item.support != FLOOR and not mounted and cfg.reject and cfg.gravity:
                 too_big = no_room_on(asset, placed[item.support].asset)
                 if too_big is not None:  # no candidate could rest: do not draw 256
                     stats.dropped.append(
@@ -643,7 +662,7 @@ class Placer:
             else:
                 sp = placed[item.support]
                 support = Anchor(sp.asset.category, sp.box, asset=sp.asset)
-                if cfg.spots and self.spots is not None and framed:
+                if cfg.spots and self.spots is not None and framed and hung_box is None:
                     spot = self.spots.check(node.category, sp.asset.category, sp.box,
                                             asset_seed(node.id, seed))  # fmt: skip
             functional = check = None
@@ -687,6 +706,7 @@ class Placer:
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
+            context.hanging = hung_box
             if mounted and node.category not in WINDOW_DRESSINGS:
                 context.standing = outlines([placed[i].box for i in ids if i not in hung])
             elif not mounted:
@@ -715,6 +735,7 @@ class Placer:
             give_up = math.inf if give_up is None else give_up  # (None: never)
             missed = 0  # candidates rejected for want of room
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
+            halves: list[tuple] = []  # (candidate, wall, corner) rejected only as wrong_half
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
@@ -736,6 +757,8 @@ class Placer:
                     if want is not asset:
                         asset, shape = want, Shape(want)
                         context.shape = shape
+                elif hung_box is not None:  # a towel on its holder: by rule
+                    boxes, mass = [hung_box.to_vector()], None
                 else:
                     boxes, mass = self.model.draw(q, n_q, cfg.temperature, generator)
                 if k == 0 and region is not None and mass is not None:
@@ -766,6 +789,8 @@ class Placer:
                         own[reason] = own.get(reason, 0) + 1
                         if reason == "off_spot" and len(strays) < SPOT_RETRIES:
                             strays.append(box)
+                        if reason == "wrong_half" and len(halves) < HALF_RETRIES:
+                            halves.append((box, context.wall, context.corner))
                         missed += reason in NO_ROOM
                         if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
@@ -788,6 +813,10 @@ class Placer:
                         break
                     if why == "covers" and covering is None:
                         covering = (tried, settled, True)
+                timer["collision"] += time.perf_counter() - t0
+            if accepted is None and halves:  # none by the drawn half: the other will do
+                t0 = time.perf_counter()
+                accepted = self._either_half(halves, context, tried, stats)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and covering is not None:  # better than not there at all
                 index, settled, moved = covering
@@ -933,6 +962,9 @@ class Placer:
         cfg = self.config
         if ctx.mount is not None:
             return self._hang_candidate(box, ctx)
+        if ctx.hanging is not None:  # a towel on its holder: where the rule hung it
+            reason, _ = self._blocked(box, ctx) if cfg.reject else (None, [])
+            return (None, reason, False) if reason is not None else (box, None, False)
         moved = False
         for attempt in range(cfg.push_attempts + 1):
             rested, reason, shifted = self._rest(box, ctx)
@@ -964,6 +996,23 @@ class Placer:
             center = rested.center + push
             box, moved = OrientedBox(center, rested.size, rested.rotation), True
         return None, "collision", moved  # unreachable: the loop returns
+
+    def _either_half(
+        self, halves: list[tuple], ctx: _Context, tried: int, stats: AssemblyStats
+    ) -> tuple[int, OrientedBox] | None:
+        """(index, box) of the first of ``halves`` (candidates rejected only as
+        ``wrong_half``, with the wall and corner they were drawn at) that passes with
+        either half of the anchor taken, or None."""
+        assert ctx.anchor is not None
+        ctx.anchor = replace(ctx.anchor, half=0)
+        for box, wall, corner in halves:
+            ctx.wall, ctx.corner = wall, corner
+            for _, tried_box in _variants(box, ctx):
+                settled, why, moved = self._settle_candidate(tried_box, ctx)
+                if why is None:
+                    stats.repaired += int(moved)
+                    return tried, settled
+        return None
 
     def _hang_candidate(
         self, box: OrientedBox, ctx: _Context
@@ -1028,6 +1077,8 @@ class Placer:
         if ctx.mount is not None:  # hung on its wall, wherever that puts it
             hung = self._hang_candidate(box, ctx)[0]
             return (box, False) if hung is None else (hung, False)
+        if ctx.hanging is not None:  # a towel on its holder
+            return box, False
         if not self.config.gravity:
             return box, False
         rested, _, shifted = self._rest(box, ctx)
@@ -1040,10 +1091,10 @@ class Placer:
 
     def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list]:
         """Why a resting candidate cannot stay ("wall": an object on a support reaching
-        through a wall, "faces_away" / "not_in_front" / "far_from_anchor": not at its
-        functional anchor as the training rooms' pairs were, "turned" / "off_spot": not
-        how or where the training rooms' objects stood on their support, "off_wall": no
-        longer against the wall it was drawn against, "door", "collision",
+        through a wall, "faces_away" / "not_in_front" / "wrong_half" / "far_from_anchor":
+        not at its functional anchor as the training rooms' pairs were, "turned" /
+        "off_spot": not how or where the training rooms' objects stood on their support,
+        "off_wall": no longer against the wall it was drawn against, "door", "collision",
         "blocks_path") and what it hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
@@ -1162,6 +1213,9 @@ class _Context:
 
     dressing: _Dressing | None = None
     """Where curtains or blinds hang (None: not a window dressing)."""
+    hanging: OrientedBox | None = None
+    """Where a towel hangs on its holder (:func:`~pair2scene.assembly.hanging.hang`;
+    None: not a towel on a holder)."""
     shown: list = field(default_factory=list)
     """(id, box, wall) of the wall objects placed so far that must stay in view (curtains
     and blinds excepted): a candidate covering more than :data:`MAX_COVER` of one's face,

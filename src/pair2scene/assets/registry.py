@@ -40,6 +40,9 @@ class Generator:
     """Number of style variants; ``style`` runs over range(variants)."""
     description: str
     fits_support_heights: bool = False
+    solid: GeneratorFn | None = None
+    """The same category as one solid piece, where ``fn`` may build it open (a counter
+    as a block, not an L or a C of runs): ``generate(..., solid=True)``."""
 
 
 REGISTRY: dict[str, Generator] = {}
@@ -53,9 +56,14 @@ _BUILT: OrderedDict[tuple, Asset] = OrderedDict()
 
 
 def register(
-    *categories: str, variants: int, description: str = "", fits_support_heights: bool = False
+    *categories: str,
+    variants: int,
+    description: str = "",
+    fits_support_heights: bool = False,
+    solid: GeneratorFn | None = None,
 ) -> Callable[[GeneratorFn], GeneratorFn]:
-    """Decorator: register ``fn`` as the generator of ``categories``."""
+    """Decorator: register ``fn`` as the generator of ``categories`` (``solid``: its
+    one-piece form, :attr:`Generator.solid`)."""
 
     def deco(fn: GeneratorFn) -> GeneratorFn:
         for cat in categories:
@@ -64,7 +72,7 @@ def register(
             if cat in REGISTRY:
                 raise ValueError(f"register: {cat!r} already has a generator")
             doc = description or (fn.__doc__ or "").strip().splitlines()[0]
-            REGISTRY[cat] = Generator(cat, fn, variants, doc, fits_support_heights)
+            REGISTRY[cat] = Generator(cat, fn, variants, doc, fits_support_heights, solid)
         return fn
 
     return deco
@@ -103,6 +111,7 @@ def generate(
     rng: np.random.Generator | int | None = None,
     style: int | None = None,
     support_heights: Sequence[float] | None = None,
+    solid: bool = False,
 ) -> Asset:
     """A procedural asset of ``category`` filling a box of ``size`` (3,) metres.
 
@@ -110,6 +119,9 @@ def generate(
     generator's own variation. Same seed, same asset; an integer seed is kept in
     ``asset.extra["seed"]`` (scene.json records it to rebuild the asset exactly).
     Unknown categories (and ``unknown``) get a labelled box (``asset.source == "box"``).
+    ``solid``: the category's one-piece form where it has one (:attr:`Generator.solid`:
+    curation's physics check stands a source's objects on a counter whose shape, a
+    straight run, an L, a C or an island, the box does not tell).
     """
     size = np.maximum(np.asarray(size, dtype=float).reshape(3), MIN_SIZE_M)
     if not np.all(np.isfinite(size)):
@@ -117,12 +129,13 @@ def generate(
     key = None
     if isinstance(rng, (int, np.integer)):  # a seed: same key, same asset (assets are frozen)
         key = (category, size.tobytes(), int(rng), style,
-               None if support_heights is None else tuple(map(float, support_heights)))  # fmt: skip
+               None if support_heights is None else tuple(map(float, support_heights)),
+               solid)  # fmt: skip
         hit = _BUILT.get(key)
         if hit is not None:
             _BUILT.move_to_end(key)
             return hit
-    asset = _build(category, size, rng, style, support_heights)
+    asset = _build(category, size, rng, style, support_heights, solid)
     if key is not None:
         _BUILT[key] = asset
         if len(_BUILT) > BUILT_CACHE_ENTRIES:
@@ -130,7 +143,7 @@ def generate(
     return asset
 
 
-def _build(category, size, rng, style, support_heights) -> Asset:
+def _build(category, size, rng, style, support_heights, solid=False) -> Asset:
     gen = generators().get(category)
     if gen is None:
         if category != UNKNOWN and category not in BY_NAME:
@@ -145,7 +158,8 @@ def _build(category, size, rng, style, support_heights) -> Asset:
     heights = None
     if support_heights is not None and gen.fits_support_heights:
         heights = sorted(float(np.clip(h, 0.0, size[2])) for h in support_heights)
-    parts = gen.fn(size.copy(), rng, style, heights)
+    fn = gen.solid if solid and gen.solid is not None else gen.fn
+    parts = fn(size.copy(), rng, style, heights)
     if not parts:
         raise RuntimeError(f"generator for {category!r} returned no parts")
     return Asset(category, size, tuple(fit_to_box(parts, size)), style=style, extra=extra)

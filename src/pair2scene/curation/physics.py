@@ -239,7 +239,8 @@ def scene_assets(scene: Scene, library=None, seed: int = 0) -> dict[str, Asset]:
 
     Categories served by the procedural generators are fitted to the heights where the
     scene's objects rest on them (:func:`support_heights`), so that a book on a
-    bookcase's second tier finds a board there. ``library``: an
+    bookcase's second tier finds a board there, and in their solid form (a counter as a
+    block: the source's objects stood on its top, whatever its shape). ``library``: an
     :class:`~pair2scene.assets.AssetLibrary` (default: procedural only).
     """
     from pair2scene.assets import AssetLibrary
@@ -259,7 +260,7 @@ def scene_assets(scene: Scene, library=None, seed: int = 0) -> dict[str, Asset]:
             and library.generator is generate
             and not library.entries(o.category)
         ):
-            out[o.id] = generate(o.category, o.box.size, rng, support_heights=fit)
+            out[o.id] = generate(o.category, o.box.size, rng, support_heights=fit, solid=True)
         else:
             out[o.id] = library.retrieve(o.category, o.box.size, rng=rng)
     return out

@@ -118,6 +118,9 @@ SUP_SUMS = 8
 """Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`."""
 MOUNT_SUMS = 3
 """Running sums per mounted category in :attr:`HierarchyStats.mount_height`."""
+FUNC_SUMS = 6
+"""Running sums per (dependent, functional anchor) pair in
+:attr:`HierarchyStats.func_geometry` (five in statistics written before the last)."""
 
 
 def aligned(relative_yaw: float) -> bool:
@@ -278,9 +281,13 @@ class HierarchyStats:
     the wall of an object with both anchors by it."""
     func_geometry: dict[str, dict[str, list[float]]] = field(default_factory=dict)
     """dependent category -> functional anchor category -> [n, facing, faced, sum, sum
-    of squares of the footprint gap (m)]: how many dependents face their anchor
+    of squares of the footprint gap (m), behind]: how many dependents face their anchor
     (:func:`~pair2scene.scene.relations.faces`), how many stand where their anchor faces
-    them (a TV stand in front of its sofa) and how far apart they stand."""
+    them (a TV stand in front of its sofa), how far apart they stand, and how many of
+    those the anchor does not face stand by its back half (their centre behind the
+    anchor's middle, in its frame: a nightstand by the head of its bed). Statistics
+    written before ``behind`` was kept have five sums (then placement takes either
+    half)."""
     func_present: dict[str, dict[str, Counter[str]]] = field(default_factory=dict)
     """support category -> anchor category -> dependent category -> dependents on that
     support in rooms where another object of the anchor category stands on the same
@@ -391,8 +398,10 @@ class HierarchyStats:
 
     def _add_geometry(self, dep: SceneObject, anchor: SceneObject) -> None:
         gap = footprint_gap(footprint(dep.box), footprint(anchor.box))
-        new = (1.0, float(faces(dep.box, anchor.box)), float(faces(anchor.box, dep.box)), gap,
-               gap * gap)  # fmt: skip
+        faced = faces(anchor.box, dep.box)
+        behind = not faced and anchor.box.to_local(dep.box.center[None])[0, 1] < 0.0
+        new = (1.0, float(faces(dep.box, anchor.box)), float(faced), gap, gap * gap,
+               float(behind))  # fmt: skip
         _add_sums(self.func_geometry, dep.category, anchor.category, new)
 
     def _add_seat(self, dep: SceneObject, support: SceneObject) -> None:
@@ -619,7 +628,10 @@ class HierarchyStats:
             for d, pa in doc.get("wall_anchor", {}).items():
                 out.wall_anchor[d] = {a: [float(v) for v in acc][:3] for a, acc in pa.items()}
             for d, pa in doc.get("func_geometry", {}).items():
-                out.func_geometry[d] = {a: [float(v) for v in acc][:5] for a, acc in pa.items()}
+                out.func_geometry[d] = {a: [float(v) for v in acc][:FUNC_SUMS]
+                                        for a, acc in pa.items()}  # fmt: skip
+                if any(len(acc) < FUNC_SUMS - 1 for acc in out.func_geometry[d].values()):
+                    raise ValueError(f"func_geometry of {d}: {FUNC_SUMS} sums per anchor expected")
             exact = (("sup_geometry", out.sup_geometry, SUP_SUMS),
                      ("mount_height", out.mount_height, MOUNT_SUMS))  # fmt: skip
             for name, table, length in exact:

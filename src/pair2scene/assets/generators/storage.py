@@ -763,7 +763,15 @@ SHAPED_COLUMNS = (3, 2)
 each side run: a C stays under 60 parts."""
 
 
-@register("counter_top", variants=3, fits_support_heights=True)
+def _counter_block(
+    size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
+) -> list[Part]:
+    """A counter of any size as one straight run: its top whole (the solid form)."""
+    w, d, h = size
+    return _finish(_counter_run(w, d, h, rng, style, support_heights), h)
+
+
+@register("counter_top", variants=3, fits_support_heights=True, solid=_counter_block)
 def counter_top(
     size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
 ) -> list[Part]:
@@ -777,7 +785,7 @@ def counter_top(
     """
     w, d, h = size
     if min(w, d) < SHAPED_COUNTER_M:
-        return _finish(_counter_run(w, d, h, rng, style, support_heights), h)
+        return _counter_block(size, rng, style, support_heights)
     legs = 2 if rng.random() < C_SHARE else 1
     run = min(rng.uniform(*RUN_DEPTH_M), 0.45 * d, 0.9 * w / (legs + 1))
     seed = int(rng.integers(2**32))  # every run built alike (top, kick, door widths)
