@@ -136,3 +136,67 @@ def test_placement_hangs_a_towel_on_its_holder_touching_it_and_nothing_else():
     assert floating(result.scene, assets) == {}
     assert intersecting(result.scene, assets) == {}
     assert by[towel.id].box.bottom > 0.3
+
+
+def test_a_toilet_roll_resting_on_a_surface_stands_on_its_end_and_reads_back_so():
+    """On a cistern or a counter a roll is built standing (style 0: lying, as on a
+    spindle, it rolled off in the simulation); on its holder either style. Its seed alone
+    rebuilds it (scene.json keeps the seed, read back by ``keep_assets``)."""
+    from pair2scene.assembly.keep import keep_assets
+    from pair2scene.assembly.place import Placer
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
+
+    h = Hierarchy("bathroom")
+    counter = h.add("counter_top", "floor")
+    spindle = h.add("toilet_paper_hanger", "wall")
+    on_counter = h.add("toilet_paper", counter.id)
+    on_spindle = h.add("toilet_paper", spindle.id)
+    placer = Placer(_NoDraws())
+    styles = {on_counter.id: set(), on_spindle.id: set()}
+    room = Room("bathroom", np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]), 2.6)
+    for seed in range(16):
+        assets = placer.assets_for(h.validate(), seed)
+        for oid in styles:
+            styles[oid].add(assets[oid].style)
+        roll = assets[on_counter.id]
+        ref = AssetRef("procedural", None, roll.style, roll.extra["seed"])
+        obj = SceneObject(on_counter.id, "toilet_paper",
+                          OrientedBox.from_yaw([1, 1, 1], roll.size), ref, counter.id)  # fmt: skip
+        back = keep_assets(Scene("s", room, [obj]))[on_counter.id]
+        assert back.style == roll.style
+        np.testing.assert_array_equal(back.mesh.vertices, roll.mesh.vertices)
+    assert styles[on_counter.id] == {0}
+    assert styles[on_spindle.id] == {0, 1}
+
+
+def test_a_towel_over_a_vanity_is_shortened_to_hang_clear_of_it():
+    """A rail 0.25 m above a counter: a 0.6 m towel would reach into it; it hangs
+    shortened to end a little above the counter's top, touching nothing but its rail."""
+    from pair2scene.assembly.hanging import CLEAR_BELOW_M, clear_length
+    from pair2scene.assembly.place import Placer
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.metrics.physical import floating, intersecting
+    from pair2scene.scene.model import AssetRef, Room, SceneObject, wall_support
+
+    room = Room("bathroom", np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]), 2.6)
+    h = Hierarchy("bathroom")
+    counter = h.add("counter_top", "floor")
+    rail = h.add("towel_holder", "wall")
+    towel = h.add("towel", rail.id)
+    holder = generate("towel_holder", np.array([0.5, 0.1, 0.05]), 3, style=0)
+    vanity = generate("counter_top", np.array([1.2, 0.55, 0.85]), 2)
+    kept = [
+        SceneObject(counter.id, "counter_top", OrientedBox.from_yaw([1.5, 0.28, 0.425],
+                    vanity.size), AssetRef("procedural", None, 0, 2), "floor"),
+        SceneObject(rail.id, "towel_holder", OrientedBox.from_yaw([1.5, 0.051, 1.1],
+                    holder.size), AssetRef("procedural", None, 0, 3), wall_support(0)),
+    ]  # fmt: skip
+    given = {counter.id: vanity, rail.id: holder}
+    result = Placer(_NoDraws()).place(h.validate(), room, seed=0, keep=kept, keep_assets=given)
+    assert result.stats.dropped == []
+    hung = next(o for o in result.scene.objects if o.id == towel.id)
+    assert hung.box.bottom == pytest.approx(0.85 + CLEAR_BELOW_M, abs=0.005)
+    assets = {counter.id: vanity, rail.id: holder, towel.id: result.assets[towel.id]}
+    assert floating(result.scene, assets) == {} and intersecting(result.scene, assets) == {}
+    assert clear_length(hung.box, [kept[0].box]) is None  # clear now

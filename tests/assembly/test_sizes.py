@@ -40,3 +40,24 @@ def test_bundled_table_and_errors(tmp_path):
     bad.write_text('{"format": "other"}')
     with pytest.raises(UserError, match="format is not"):
         SizeTable.load(bad)
+
+
+def test_a_mounted_size_is_never_deeper_than_wide():
+    """A source box read a quarter turn off (a towel rail 0.66 m out from its wall) is
+    turned when drawn for a wall; on the floor the same size stays as observed."""
+    from pair2scene.curation.stats import WALL_MARK
+
+    rail = [0.11, 0.66, 0.04]
+    table = SizeTable({"towel_holder" + WALL_MARK: np.array([rail]),
+                       "towel_holder": np.array([rail])})  # fmt: skip
+    for seed in range(20):
+        hung = table.draw("towel_holder", np.random.default_rng(seed), mounted=True)
+        assert hung[0] > hung[1] and hung[0] == pytest.approx(0.66, rel=0.2)
+        free = table.draw("towel_holder", np.random.default_rng(seed))
+        np.testing.assert_allclose(free, hung[[1, 0, 2]])  # the same draw, not turned
+    bundled = SizeTable.load()
+    cats = ("towel_holder", "microwave", "toilet_paper_hanger")
+    draws = [
+        bundled.draw(c, np.random.default_rng(s), mounted=True) for c in cats for s in range(40)
+    ]
+    assert all(d[0] >= d[1] for d in draws)

@@ -180,3 +180,21 @@ def draped(sizes: np.ndarray) -> np.ndarray:
     to hang is drawn from."""
     sizes = np.asarray(sizes, dtype=float)
     return sizes[:, 2] > 2.0 * sizes[:, 1]
+
+
+CLEAR_BELOW_M = 0.03
+"""Gap a hanging towel keeps above what stands under it (a vanity, a cistern)."""
+
+
+def clear_length(box: OrientedBox, others: list[OrientedBox]) -> float | None:
+    """The longest a cloth hung at ``box`` may be to end :data:`CLEAR_BELOW_M` above the
+    highest of ``others`` whose footprint meets its own and whose top is below the
+    cloth's top, or None when none is under it or what is under it stands below the
+    cloth's bottom already."""
+    from pair2scene.scene.relations import footprint, footprint_gap
+
+    mine = footprint(box)
+    tops = [o.top for o in others if o.top < box.top and footprint_gap(mine, footprint(o)) <= 0.0]
+    if not tops or max(tops) + CLEAR_BELOW_M <= box.bottom + 1e-6:
+        return None
+    return box.top - max(tops) - CLEAR_BELOW_M
