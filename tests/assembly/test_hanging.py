@@ -200,3 +200,32 @@ def test_a_towel_over_a_vanity_is_shortened_to_hang_clear_of_it():
     assets = {counter.id: vanity, rail.id: holder, towel.id: result.assets[towel.id]}
     assert floating(result.scene, assets) == {} and intersecting(result.scene, assets) == {}
     assert clear_length(hung.box, [kept[0].box]) is None  # clear now
+
+
+def test_physics_fixes_a_towel_on_its_holder_as_it_fixes_the_holder():
+    """Curation's check, evaluate's stability and the exports keep a hung towel still
+    (a rigid towel on a round bar slides off); ``dynamic="all"`` frees it as it frees
+    every object; a soap bar on the same holder is not hung and stays free."""
+    from pair2scene.curation.physics import Role, plan_bodies
+    from pair2scene.io.physical import scene_physics
+    from pair2scene.scene.model import Room, Scene, SceneObject, wall_support
+
+    room = Room("bathroom", np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]), 2.6)
+    holder = generate("towel_holder", np.array([0.5, 0.1, 0.05]), 3, style=0)
+    at = OrientedBox.from_yaw([1.5, 0.051, 1.1], holder.size)
+    towel = generate("towel", hung_size(np.array([0.4, 0.2, 0.05]), holder), 1)
+    soap = generate("soap_bar", np.array([0.08, 0.05, 0.03]), 1)
+    objects = [
+        SceneObject("towel_holder_0", "towel_holder", at, None, wall_support(0)),
+        SceneObject("towel_0", "towel", hang(towel, holder, at), None, "towel_holder_0"),
+        SceneObject("soap_bar_0", "soap_bar", OrientedBox.from_yaw([2, 1, 0.015], soap.size),
+                    None, "towel_holder_0"),
+    ]  # fmt: skip
+    scene = Scene("s", room, objects)
+    plans = plan_bodies(scene)
+    assert plans["towel_0"].role is Role.STATIC and plans["towel_0"].why == "hangs on a holder"
+    assert plans["soap_bar_0"].role is Role.FREE
+    assets = {"towel_holder_0": holder, "towel_0": towel, "soap_bar_0": soap}
+    small = scene_physics(scene, assets)
+    assert not small["towel_0"].dynamic and small["soap_bar_0"].dynamic
+    assert scene_physics(scene, assets, "all")["towel_0"].dynamic

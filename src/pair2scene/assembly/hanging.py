@@ -26,6 +26,7 @@ import numpy as np
 from pair2scene.assembly.collision import MeshWorld, Shape, Tolerances
 from pair2scene.assets.mesh import Asset, Part
 from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.model import SceneObject
 
 HANGERS = frozenset({"towel_holder"})
 """Categories cloth hangs on."""
@@ -198,3 +199,11 @@ def clear_length(box: OrientedBox, others: list[OrientedBox]) -> float | None:
     if not tops or max(tops) + CLEAR_BELOW_M <= box.bottom + 1e-6:
         return None
     return box.top - max(tops) - CLEAR_BELOW_M
+
+
+def hung_on_holder(obj: SceneObject, by_id: dict[str, SceneObject]) -> bool:
+    """Whether ``obj`` is a cloth resting on a towel holder (``by_id``: the scene's
+    objects): it hangs there, and physics fixes it as it fixes the holder (a rigid towel
+    balanced on a round bar would slide off where a cloth one stays)."""
+    holder = by_id.get(obj.support if obj.support is not None else obj.source_support or "")
+    return obj.category in CLOTHS and holder is not None and holder.category in HANGERS

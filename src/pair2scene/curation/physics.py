@@ -29,7 +29,9 @@ Who moves (see :func:`plan_bodies`):
 
 - ``free``: large furniture, small objects and unknowns: a free joint each.
 - ``static``: fixtures (built in: counters, sinks, toilets), wall objects (they hang
-  on walls the simulation does not have), and objects whose support is not known at
+  on walls the simulation does not have), towels on a towel holder (they hang on it:
+  our rigid stand-in of a cloth, balanced on a round bar, slid off; 12 of the source
+  towels on holders were dropped so), and objects whose support is not known at
   all (neither ``support`` nor ``source_support``) whose bottom is above
   :data:`MOUNTED_MIN_HEIGHT_M` (a wall-mounted TV, a microwave in an over-stove
   cabinet that the source does not list). They collide but never move and are
@@ -193,6 +195,8 @@ def _resting_on(o: SceneObject) -> str | None:
 
 def plan_bodies(scene: Scene) -> dict[str, BodyPlan]:
     """object id -> :class:`BodyPlan` (the rules are in the module docstring)."""
+    from pair2scene.assembly.hanging import hung_on_holder
+
     by_id = scene.by_id()
     plans: dict[str, BodyPlan] = {}
     for o in scene.objects:
@@ -203,6 +207,8 @@ def plan_bodies(scene: Scene) -> dict[str, BodyPlan]:
             plans[o.id] = BodyPlan(Role.STATIC, why="built-in fixture")
         elif sup is SuperCategory.WALL_OBJECT or on_wall(o.support):
             plans[o.id] = BodyPlan(Role.STATIC, why="hangs on a wall")
+        elif hung_on_holder(o, by_id):
+            plans[o.id] = BodyPlan(Role.STATIC, why="hangs on a holder")
         elif sup is SuperCategory.PART:
             plans[o.id] = BodyPlan(Role.STATIC, why="part without free furniture owner")
         elif _resting_on(o) is None and o.box.bottom > MOUNTED_MIN_HEIGHT_M:

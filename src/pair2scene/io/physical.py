@@ -34,7 +34,9 @@ rocking away.
 
 - ``"small"`` (default): small objects (super-category SMALL_OBJECT) are free bodies;
   large furniture, fixtures and anything on a wall are fixed. A mug on a fixed table
-  stays free: it can be picked up.
+  stays free: it can be picked up. A towel hung on a towel holder is fixed as its holder
+  is (:func:`~pair2scene.assembly.hanging.hung_on_holder`), under every policy but
+  ``"all"``.
 - ``"all"``: every object is free except fixtures (counters, sinks, toilets...), wall
   objects and anything mounted on a wall (support ``wall:<i>``), parts of furniture, and
   an object with no known support whose bottom is above the floor (a mounted TV).
@@ -497,9 +499,12 @@ def is_dynamic(obj: SceneObject, dynamic: str = "small") -> bool:
 
 
 # -- bodies ------------------------------------------------------------------------------
-def body_physics(obj: SceneObject, asset: Asset, dynamic: str = "small") -> BodyPhysics:
-    """The rigid body of ``obj`` built from ``asset`` (its parts in the box frame)."""
-    free = is_dynamic(obj, dynamic)
+def body_physics(
+    obj: SceneObject, asset: Asset, dynamic: str = "small", hung: bool = False
+) -> BodyPhysics:
+    """The rigid body of ``obj`` built from ``asset`` (its parts in the box frame);
+    ``hung``: a cloth on a towel holder, fixed unless every object is to move."""
+    free = is_dynamic(obj, dynamic) and (dynamic == "all" or not hung)
     parts = tuple(p.mesh for p in asset.parts)
     if not parts:
         raise ValueError(f"{obj.id}: asset without parts")
@@ -523,11 +528,14 @@ def scene_physics(
 ) -> dict[str, BodyPhysics]:
     """object id -> :class:`BodyPhysics`, in scene order, for every object that has an
     asset in ``assets`` (room structure and objects without an asset are left out)."""
+    from pair2scene.assembly.hanging import hung_on_holder
+
     _check_dynamic(dynamic)
+    by_id = scene.by_id()
     out: dict[str, BodyPhysics] = {}
     for o in scene.objects:
         asset = assets.get(o.id)
         if asset is None or super_category(o.category) is SuperCategory.STRUCTURE:
             continue
-        out[o.id] = body_physics(o, asset, dynamic)
+        out[o.id] = body_physics(o, asset, dynamic, hung_on_holder(o, by_id))
     return out
