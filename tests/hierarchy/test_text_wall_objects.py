@@ -422,3 +422,21 @@ def test_cli_json_shows_the_wall():
     (tree,) = [t for t in doc["functional_trees"] if t["support_anchor"]["id"] == "wall"]
     (edge,) = [e for e in tree["edges"] if e["dependent"]["category"] == "mirror"]
     assert edge["over"] is True
+
+
+def test_a_towel_rail_or_a_toilet_roll_holder_hangs_on_a_wall_unless_put_on_something():
+    """The curated rooms mount every one (58 towel rails, 22 toilet roll holders): named
+    without a support, they hang, a towel on the rail with it; "beside the toilet" hangs
+    by the toilet; put on something, they stay there."""
+    h = offline("a bathroom with a toilet, a towel rail with a hand towel on it")
+    assert placed(h, {"towel_holder", "hand_towel"}) == [
+        ("towel_holder", WALL, None),
+        ("hand_towel", "towel_holder", None),
+    ]
+    h = offline("a bathroom with a toilet and a towel rail beside the toilet")
+    assert placed(h, {"towel_holder"}) == [("towel_holder", WALL, "toilet")]
+    h = offline("a bathroom with a sink and a toilet paper holder by the sink")
+    # (by the counter the sink is on: what hangs is anchored to what stands)
+    assert placed(h, {"toilet_paper_hanger"}) == [("toilet_paper_hanger", WALL, "counter_top")]
+    h = offline("a bathroom with a counter and a towel rail on the counter")
+    assert placed(h, {"towel_holder"}) == [("towel_holder", "counter_top", None)]

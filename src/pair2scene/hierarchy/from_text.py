@@ -55,7 +55,7 @@ from pair2scene.hierarchy.synthesis import (
     extra_furniture,
     load_stats,
 )
-from pair2scene.hierarchy.text import MOUNTABLE, WALL_OBJECTS, Mention, TextSpec
+from pair2scene.hierarchy.text import MOUNTABLE, WALL_FIXTURES, WALL_OBJECTS, Mention, TextSpec
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
 from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall
 
@@ -161,7 +161,7 @@ def hierarchy_from_spec(
             m = replace(m, count=MAX_COUNT)
         sup_rel, func_rel = support_of.get(m.ref), functional_of.get(m.ref)
         nodes: list[Node] = []
-        wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS)
+        wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS | WALL_FIXTURES)
         if wall:
             nodes = _hang(h, m, func_rel, instances)
             sup_rel = None
