@@ -14,7 +14,11 @@ wide as the holder's free span allows and thick enough that the bar fits between
 layers; it is centred on the bar along the wall and over it in depth, and lowered until
 its fold sits on the bar (on a ring, on the inside of the ring's lower half). A towel
 that would touch the holder anywhere else by more than the contact tolerance does not
-hang there; the next bar is tried (a ladder's rails, a double rail's back one).
+hang there; the next bar is tried (a ladder's rails, a double rail's back one). One that
+would reach into what stands under the holder is shortened to clear it
+(:func:`clear_length`). Hung, it is fixed as its holder is in every physics of the
+package (:func:`hung_on_holder`): a rigid stand-in of a cloth balanced on a round bar
+slides off where the cloth stays.
 """
 
 from __future__ import annotations
