@@ -24,7 +24,7 @@ def counts(folder: Path) -> Counter:
     """(dependent, anchor, "n" | "behind") -> count over the folder's scenes."""
     from pair2scene.io.scene_json import read_scene
     from pair2scene.scene.model import FLOOR
-    from pair2scene.scene.relations import faces
+    from pair2scene.scene.relations import by_back_half, faces
 
     out: Counter = Counter()
     for path in sorted(folder.glob("*/scene.json")):
@@ -36,7 +36,7 @@ def counts(folder: Path) -> Counter:
                 continue
             key = (o.category, anchor.category)
             out[key + ("n",)] += 1
-            out[key + ("behind",)] += int(anchor.box.to_local(o.box.center[None])[0, 1] < 0)
+            out[key + ("behind",)] += int(by_back_half(o.box, anchor.box))
     return out
 
 

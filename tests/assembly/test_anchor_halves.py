@@ -13,6 +13,7 @@ from pair2scene.curation.stats import HierarchyStats
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
+from pair2scene.scene.relations import by_back_half
 
 ROOM = Room(
     "bedroom",
@@ -134,7 +135,7 @@ def _nightstand_at_bed() -> Hierarchy:
 
 
 def _by_head(box: OrientedBox) -> bool:
-    return bool(BED.to_local(box.center[None])[0, 1] < 0.0)
+    return by_back_half(box, BED)
 
 
 def _placed(model, **config):

@@ -47,7 +47,7 @@ import numpy as np
 from pair2scene.assembly.walls import faced_by
 from pair2scene.curation.stats import HierarchyStats, aligned, mean_std
 from pair2scene.scene.geometry import OrientedBox
-from pair2scene.scene.relations import faces, footprint, footprint_gap
+from pair2scene.scene.relations import by_back_half, faces, footprint, footprint_gap
 from pair2scene.scene.walls import Wall
 
 MIN_PAIRS = 5
@@ -120,7 +120,7 @@ class AnchorCheck:
             return "faces_away"
         if self.in_front and not faces(self.anchor, box):
             return "not_in_front"
-        if self.half and (self.anchor.to_local(box.center[None])[0, 1] < 0.0) != (self.half < 0):
+        if self.half and by_back_half(box, self.anchor) != (self.half < 0):
             return "wrong_half"
         if self.across and wall is not None and faced_by(wall, self.anchor):
             return None

@@ -211,3 +211,25 @@ def hung_on_holder(obj: SceneObject, by_id: dict[str, SceneObject]) -> bool:
     balanced on a round bar would slide off where a cloth one stays)."""
     holder = by_id.get(obj.support if obj.support is not None else obj.source_support or "")
     return obj.category in CLOTHS and holder is not None and holder.category in HANGERS
+
+
+def hang_clear(
+    cloth: Asset,
+    holder: Asset,
+    holder_box: OrientedBox,
+    under: list[OrientedBox],
+    tolerances: Tolerances | None = None,
+) -> tuple[Asset, OrientedBox | None]:
+    """(the cloth, where it hangs: :func:`hang`), the cloth rebuilt shorter from its own
+    seed when it would reach into one of ``under`` (:func:`clear_length`; a vanity or a
+    cistern under the holder) and still drapes so; None for the pose where it hangs on
+    no bar of ``holder``."""
+    from pair2scene.assets.registry import generate
+
+    box = hang(cloth, holder, holder_box, tolerances)
+    short = None if box is None else clear_length(box, under)
+    if short is not None and draped(np.array([[*cloth.size[:2], short]]))[0]:
+        size = np.array([*cloth.size[:2], short])
+        cloth = generate(cloth.category, size, cloth.extra.get("seed", 0))
+        box = hang(cloth, holder, holder_box, tolerances)
+    return cloth, box

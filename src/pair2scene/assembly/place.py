@@ -49,7 +49,7 @@ from pair2scene.assembly.collision import (
     Tolerances,
     clearing_move,
 )
-from pair2scene.assembly.hanging import clear_length, draped, hang, hangs_on, hung_size
+from pair2scene.assembly.hanging import draped, hang_clear, hangs_on, hung_size
 from pair2scene.assembly.mounting import (
     HANGS_OVER,
     MAX_COVER,
@@ -671,14 +671,9 @@ class Placer:
             hung_box = None  # where a towel hangs on its holder (by rule, not drawn)
             if item.support in placed and hangs_on(node.category, placed[item.support].asset):
                 holder = placed[item.support]
-                hung_box = hang(asset, holder.asset, holder.box, cfg.tolerances)
                 under = [p.box for i, p in placed.items() if i != item.support]
-                short = None if hung_box is None else clear_length(hung_box, under)
-                if short is not None and draped(np.array([[*asset.size[:2], short]]))[0]:
-                    # shortened to hang clear of the vanity or cistern under it
-                    size = np.array([*asset.size[:2], short])
-                    asset = generate(node.category, size, asset.extra.get("seed", 0))
-                    hung_box = hang(asset, holder.asset, holder.box, cfg.tolerances)
+                asset, hung_box = hang_clear(asset, holder.asset, holder.box, under,
+                                             cfg.tolerances)  # fmt: skip
                 if hung_box is None:
                     why = f"hangs on no bar of {item.support} (too wide, or touching it)"
                     stats.dropped.append(Dropped(node.id, node.category, why))

@@ -41,7 +41,7 @@ from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall
-from pair2scene.scene.relations import faces, footprint, footprint_gap
+from pair2scene.scene.relations import by_back_half, faces, footprint, footprint_gap
 from pair2scene.scene.walls import against_wall, in_corner, walls_of
 
 STATS_FORMAT = "pair2scene.hierarchy_stats"
@@ -399,7 +399,7 @@ class HierarchyStats:
     def _add_geometry(self, dep: SceneObject, anchor: SceneObject) -> None:
         gap = footprint_gap(footprint(dep.box), footprint(anchor.box))
         faced = faces(anchor.box, dep.box)
-        behind = not faced and anchor.box.to_local(dep.box.center[None])[0, 1] < 0.0
+        behind = not faced and by_back_half(dep.box, anchor.box)
         new = (1.0, float(faces(dep.box, anchor.box)), float(faced), gap, gap * gap,
                float(behind))  # fmt: skip
         _add_sums(self.func_geometry, dep.category, anchor.category, new)

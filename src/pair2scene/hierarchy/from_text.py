@@ -45,6 +45,7 @@ import numpy as np
 
 from pair2scene.categories import BY_NAME, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
+from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
     MAX_OBJECTS_LIMIT,
@@ -55,7 +56,7 @@ from pair2scene.hierarchy.synthesis import (
     extra_furniture,
     load_stats,
 )
-from pair2scene.hierarchy.text import MOUNTABLE, WALL_FIXTURES, WALL_OBJECTS, Mention, TextSpec
+from pair2scene.hierarchy.text import MOUNTABLE, WALL_OBJECTS, Mention, TextSpec
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
 from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall
 
@@ -161,7 +162,7 @@ def hierarchy_from_spec(
             m = replace(m, count=MAX_COUNT)
         sup_rel, func_rel = support_of.get(m.ref), functional_of.get(m.ref)
         nodes: list[Node] = []
-        wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS | WALL_FIXTURES)
+        wall = m.ref in hung or (sup_rel is None and m.category in WALL_OBJECTS | HANGER_CATEGORIES)
         if wall:
             nodes = _hang(h, m, func_rel, instances)
             sup_rel = None

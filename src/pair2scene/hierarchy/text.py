@@ -23,9 +23,10 @@ the wall" (and "wall-mounted", "mounted", "a wall mirror") puts a mention that c
 (:data:`MOUNTABLE`: the wall objects, a TV, towel rails) on a wall, and a mention of
 curtains or blinds related to windows hangs at them, one per window ("curtains on the
 windows": two). Those mentions are listed in :attr:`TextSpec.on_wall`. The wall objects
-and the fixtures the curated rooms always mount (:data:`WALL_FIXTURES`: towel rails,
-toilet roll holders) hang on a wall without being told, unless the text puts them on
-something.
+and the fixtures things hang from, which the curated rooms always mount
+(:data:`~pair2scene.curation.support.HANGER_CATEGORIES`: 58 of 58 towel rails, 22 of 22
+toilet roll holders on a wall), hang on a wall without being told, unless the text puts
+them on something.
 
 Words that look like objects but are not understood go to :attr:`TextSpec.unparsed`.
 
@@ -50,6 +51,7 @@ from functools import lru_cache
 from typing import Any
 
 from pair2scene.categories import BY_NAME, CATEGORIES, WINDOW_DRESSINGS, RoomType, SuperCategory
+from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError
 
 SUPPORT = "support"
@@ -291,11 +293,7 @@ SEAT_PEOPLE = ("people", "persons", "person", "guests", "diners", "adults", "kid
 WALL_OBJECTS = frozenset(c.name for c in CATEGORIES if c.super is SuperCategory.WALL_OBJECT)
 """Categories that always hang on a wall unless the text puts them on something ("a
 painting above the sofa" hangs above it)."""
-WALL_FIXTURES = frozenset({"towel_holder", "toilet_paper_hanger"})
-"""Fixtures the curated rooms always mount (58 of 58 towel rails, 22 of 22 toilet paper
-holders on a wall): they hang on a wall unless the text puts them on something, as the
-wall objects do."""
-MOUNTABLE = WALL_OBJECTS | WALL_FIXTURES | {"television"}
+MOUNTABLE = WALL_OBJECTS | HANGER_CATEGORIES | {"television"}
 """Categories that hang on a wall when the text says so ("a TV on the wall"): the wall
 objects, televisions and the fixtures the curated rooms mount (towel rails). Anything else
 "on the wall" keeps its usual support (a shelf on the wall stands against it)."""

@@ -101,3 +101,9 @@ def faces(box: OrientedBox, anchor: OrientedBox) -> bool:
     """Whether ``box``'s front points at ``anchor``'s footprint
     (:func:`angle_to_footprint` below :data:`FACING_MAX_DEG`)."""
     return angle_to_footprint(box, footprint(anchor)) < FACING_MAX_DEG
+
+
+def by_back_half(box: OrientedBox, anchor: OrientedBox) -> bool:
+    """Whether ``box``'s centre lies behind ``anchor``'s middle, in ``anchor``'s frame
+    (towards its back, -y): a nightstand by the head of its bed."""
+    return bool(anchor.to_local(box.center[None])[0, 1] < 0.0)
