@@ -308,6 +308,34 @@ def test_atomic_open_exception_inside_block(tmp_path):
     assert _listing(tmp_path) == []
 
 
+@pytest.mark.parametrize("call", ["mkdir", "open"])
+def test_an_interrupt_right_after_the_temporary_is_made_leaves_nothing(tmp_path, monkeypatch, call):
+    """A SIGTERM that generation turns into SystemExit can land between the moment a
+    temporary folder (file) is made and the next line of the writer; the writer must still
+    remove it (a scene folder written under load was once left behind so)."""
+    real = getattr(atomic.os, call)
+
+    def made_then_stopped(path, *args, **kwargs):
+        out = real(path, *args, **kwargs)
+        if Path(path).name.startswith("."):
+            if call == "open":
+                atomic.os.close(out)
+            raise SystemExit(143)
+        return out
+
+    monkeypatch.setattr(atomic.os, call, made_then_stopped)
+    (tmp_path / "scene").mkdir()
+    (tmp_path / "scene" / "scene.json").write_text("OLD", encoding="utf-8")
+    with pytest.raises(SystemExit):
+        if call == "mkdir":
+            atomic.replace_folder(tmp_path / "scene", lambda tmp: None)
+        else:
+            atomic_write_bytes(tmp_path / "scene" / "scene.json", b"NEW")
+    assert _listing(tmp_path) == ["scene"]
+    assert _listing(tmp_path / "scene") == ["scene.json"]
+    assert (tmp_path / "scene" / "scene.json").read_text(encoding="utf-8") == "OLD"
+
+
 # -- malformed files -------------------------------------------------------------------
 @dataclass(frozen=True)
 class Case:

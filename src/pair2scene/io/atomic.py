@@ -11,12 +11,14 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import secrets
 import shutil
 import stat
-import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, TypeVar
+
+T = TypeVar("T")
 
 
 @contextlib.contextmanager
@@ -27,23 +29,28 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=TEMP_SUFFIX)
+    made: list[Path] = []  # the temporary file, listed before it exists
+    flags = os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
     try:
-        os.chmod(tmp, 0o666 & ~current_umask())  # mkstemp makes 0600; give what open() would
+        tmp, fd = _new_temporary(path.parent, f".{path.name}.", TEMP_SUFFIX, made,
+                                 lambda p: os.open(p, flags, 0o600))  # fmt: skip
+        os.chmod(tmp, 0o666 & ~current_umask())  # made 0600; give what open() would
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+        for tmp in made:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
         raise
 
 
 TEMP_SUFFIX = ".tmp"
 _RANDOM = "[a-z0-9_]+"
-"""What :mod:`tempfile` puts in its names (8 of these characters)."""
+"""What a temporary name's random part is made of: 8 of :data:`_NAME_CHARS` (the letters
+:mod:`tempfile` uses, which made the names of earlier versions)."""
 
 
 def current_umask() -> int:
@@ -97,33 +104,62 @@ OLD_HOLDER = "old."
 replaced (``.<name>.old.<random>``, the folder inside as ``x``)."""
 
 
+_NAME_CHARS = "abcdefghijklmnopqrstuvwxyz0123456789_"
+_NAME_TRIES = 100
+
+
+def _new_temporary(
+    parent: Path, prefix: str, suffix: str, made: list[Path], create: Callable[[Path], T]
+) -> tuple[Path, T]:
+    """(``parent/<prefix><random><suffix>``, what ``create(path)`` returned), ``create``
+    making it new (a folder, a file opened exclusively; FileExistsError when the name is
+    taken). The path is appended to ``made`` before it is created: an exception raised
+    between its creation and the caller's next line (a SIGTERM turned into SystemExit)
+    still finds it there to remove, where ``tmp = tempfile.mkdtemp()`` would lose it."""
+    for _ in range(_NAME_TRIES):
+        token = "".join(secrets.choice(_NAME_CHARS) for _ in range(8))
+        path = parent / f"{prefix}{token}{suffix}"
+        made.append(path)
+        try:
+            return path, create(path)
+        except FileExistsError:
+            made.remove(path)  # someone else's: never ours to remove
+    raise FileExistsError(f"{parent}: no free temporary name {prefix}<random>{suffix}")
+
+
+def _new_folder(parent: Path, prefix: str, made: list[Path]) -> Path:
+    """A new empty folder ``parent/<prefix><random>`` (mode 0700), listed in ``made``
+    before it exists (:func:`_new_temporary`)."""
+    return _new_temporary(parent, prefix, "", made, lambda p: os.mkdir(p, 0o700))[0]
+
+
 def replace_folder(folder: str | os.PathLike, fill: Callable[[Path], object]) -> Path:
     """Make ``folder`` whole or not at all: ``fill(tmp)`` writes its content into a hidden
     temporary folder beside it (``.<name>.<random>``), which is then renamed into place;
     a folder already there is moved aside first (into ``.<name>.old.<random>/x``) and
-    removed after. On any exception the temporary folder is removed and the previous
-    folder put back. The new folder gets the mode a plain mkdir gives."""
+    removed after. On any exception (a SIGTERM the caller turns into one included,
+    however early) the temporary folder is removed and the previous folder put back. The
+    new folder gets the mode a plain mkdir gives."""
     folder = Path(folder)
     folder.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}."))
-    old: Path | None = None
+    made: list[Path] = []  # [tmp, old], each listed before it exists
     try:
+        tmp = _new_folder(folder.parent, f".{folder.name}.", made)
         fill(tmp)
-        os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp makes 0700
+        os.chmod(tmp, 0o777 & ~current_umask())  # made 0700
         if folder.exists():
-            old = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.{OLD_HOLDER}"))
+            old = _new_folder(folder.parent, f".{folder.name}.{OLD_HOLDER}", made)
             folder.rename(old / "x")
         tmp.rename(folder)
     except BaseException:
-        if old is not None and not folder.exists():  # interrupted between the renames
+        if len(made) > 1 and not folder.exists():  # interrupted between the renames
             with contextlib.suppress(OSError):
-                (old / "x").rename(folder)  # the previous folder goes back
-        shutil.rmtree(tmp, ignore_errors=True)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+                (made[1] / "x").rename(folder)  # the previous folder goes back
+        for path in made:
+            shutil.rmtree(path, ignore_errors=True)
         raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    if len(made) > 1:
+        shutil.rmtree(made[1], ignore_errors=True)
     return folder
 
 
