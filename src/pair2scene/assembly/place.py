@@ -84,6 +84,7 @@ from pair2scene.assembly.walls import (
     wall_order,
     within_reach,
 )
+from pair2scene.assets.forms import arm_side
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
@@ -714,7 +715,7 @@ class Placer:
             queries = [(query, None)]
             turned = False  # stands sideways to its wall, if it stands against one
             if item.support == FLOOR:
-                turned = node.id not in backed and self._sideways(node, room, seed)
+                turned = node.id not in backed and self._sideways(node, room, seed, asset.size)
                 queries = self._wall_queries(query, node, room, placed, seed, check,
                                              node.id in backed, turned) or queries  # fmt: skip
             elif mounted:
@@ -753,9 +754,12 @@ class Placer:
                 and cfg.corners
                 and not context.sideways
                 and self.walls is not None
-                and self.walls.in_corner(room.type, node.category, asset_seed(node.id, seed))
+                and self.walls.in_corner(
+                    room.type, node.category, asset_seed(node.id, seed), asset.size
+                )
             ):
                 ends = convex_ends(walls_of(room.floor_polygon))
+                context.arm = arm_side(asset.parts)
             accepted = None
             own: dict[str, int] = {}
             tried = 0
@@ -902,9 +906,9 @@ class Placer:
         if self.walls is None or not self.config.walls:
             return []
         seed_ = asset_seed(node.id, seed)
-        if not backed and not self.walls.against_wall(room.type, node.category, seed_):
-            return []
         size = np.asarray(query.size, float)
+        if not backed and not self.walls.against_wall(room.type, node.category, seed_, size):
+            return []
         width, depth = size[:2]  # along the wall and into the room
         if turned:
             width, depth = depth, width
@@ -926,13 +930,14 @@ class Placer:
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
-    def _sideways(self, node, room: Room, seed: int) -> bool:
-        """Whether floor object ``node``, if it stands against a wall, stands sideways to
-        it (:attr:`AssemblyConfig.sideways`; a draw of the wall rules)."""
+    def _sideways(self, node, room: Room, seed: int, size) -> bool:
+        """Whether floor object ``node`` of box ``size``, if it stands against a wall,
+        stands sideways to it (:attr:`AssemblyConfig.sideways`; a draw of the wall
+        rules)."""
         return (
             self.config.sideways
             and self.walls is not None
-            and self.walls.turned(room.type, node.category, asset_seed(node.id, seed))
+            and self.walls.turned(room.type, node.category, asset_seed(node.id, seed), size)
         )
 
     def _hangs_across(self, node, anchor: str | None, nodes: dict, seed: int, framed: bool) -> bool:
@@ -1187,7 +1192,8 @@ def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | N
         return [(None, turn_sideways(box, ctx.wall, ctx.room.bounds.center)), (None, box)]
     if ctx.corner is not None and ctx.wall is not None:
         index = ctx.wall.index
-        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
+        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner,
+                                                             arm=ctx.arm)
                    if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES]  # fmt: skip
         return [*corners, (None, box)]
     if ctx.spot is not None:
@@ -1228,6 +1234,9 @@ class _Context:
     corner: tuple[bool, bool] | None = None
     """Whether the start and the end of ``wall`` are convex corners, when the object is
     to stand in one (None: not asked)."""
+    arm: int = 0
+    """The side (+1 its +x, -1 its -x) whose corner an L counter stands in
+    (:func:`~pair2scene.assets.forms.arm_side`); 0: either corner."""
     corner_misses: dict = field(default_factory=dict)
     """(wall index, end) -> how many of this object's candidates slid into that corner
     did not pass."""

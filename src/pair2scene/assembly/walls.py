@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pair2scene.assets.forms import form_key
 from pair2scene.curation.stats import HierarchyStats, mean_std
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import Room
@@ -86,41 +87,54 @@ class WallRules:
                 distances.setdefault(dep, {})[anchor] = mean_std(n, total, squares)
         return cls(rates, distances, corners, sideways)
 
-    def rate(self, room_type: str, category: str) -> float:
+    def rate(self, room_type: str, category: str, size=None) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
-        every room type when this one never held it; 0 when none did)."""
-        return _share(self.rates, room_type, category)
+        every room type when this one never held it; 0 when none did). With the object's
+        ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
+        statistics counted that form."""
+        return _share(self.rates, room_type, _key(self.rates, category, size))
 
-    def against_wall(self, room_type: str, category: str, seed: int) -> bool:
-        """Whether an object (``seed``: its asset seed) stands against a wall: a draw."""
+    def against_wall(self, room_type: str, category: str, seed: int, size=None) -> bool:
+        """Whether an object (``seed``: its asset seed; ``size``: its box, for its form)
+        stands against a wall: a draw."""
         u = np.random.default_rng([seed, _SALT]).random()
-        return bool(u < self.rate(room_type, category))
+        return bool(u < self.rate(room_type, category, size))
 
-    def corner_rate(self, room_type: str, category: str) -> float:
+    def corner_rate(self, room_type: str, category: str, size=None) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
-        in a corner (over every room type when this one never had one against a wall)."""
-        return _share(self.corners, room_type, category)
+        in a corner (over every room type when this one never had one against a wall; of
+        its form's with ``size``, as :meth:`rate`)."""
+        return _share(self.corners, room_type, _key(self.corners, category, size))
 
-    def in_corner(self, room_type: str, category: str, seed: int) -> bool:
+    def in_corner(self, room_type: str, category: str, seed: int, size=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
         a draw, independent of the wall draw."""
         u = np.random.default_rng([seed, _CORNER_SALT]).random()
-        return bool(u < self.corner_rate(room_type, category))
+        return bool(u < self.corner_rate(room_type, category, size))
 
-    def sideways_rate(self, room_type: str, category: str) -> float:
+    def sideways_rate(self, room_type: str, category: str, size=None) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
-        with a side, not their back, against it (pooled as :meth:`rate`)."""
-        return _share(self.sideways, room_type, category)
+        with a side, not their back, against it (pooled, and of its form, as :meth:`rate`)."""
+        return _share(self.sideways, room_type, _key(self.sideways, category, size))
 
-    def turned(self, room_type: str, category: str, seed: int) -> bool:
+    def turned(self, room_type: str, category: str, seed: int, size=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands sideways to
         it: a draw, independent of the wall and corner draws."""
         u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
-        return bool(u < self.sideways_rate(room_type, category))
+        return bool(u < self.sideways_rate(room_type, category, size))
 
     def distance(self, dependent: str, anchor: str) -> tuple[float, float] | None:
         """(mean, std) of ``anchor``'s distance from ``dependent``'s wall, if learned."""
         return self.distances.get(dependent, {}).get(anchor)
+
+
+def _key(table: dict[str, dict[str, tuple[float, float]]], category: str, size) -> str:
+    """``category``'s form key at ``size`` when some room type of ``table`` counted that
+    form, else ``category`` (statistics written before forms were counted)."""
+    form = None if size is None else form_key(category, size)
+    if form is not None and any(r.get(form, (0, 0))[1] > 0 for r in table.values()):
+        return form
+    return category
 
 
 def _share(table: dict[str, dict[str, tuple[float, float]]], room_type: str, category: str):
@@ -195,13 +209,19 @@ def within_reach(
 
 
 def to_corners(
-    box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M
-) -> list[tuple[int, OrientedBox]]:
+    box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M,
+    arm: int = 0,
+) -> list[tuple[int, OrientedBox]]:  # fmt: skip
     """``box`` (standing against ``wall``) slid along the wall into each of its convex
     corners (``ends``: whether the wall's start and end are such corners,
     :func:`~pair2scene.scene.walls.convex_ends`), ``gap`` short of the other wall, the
     nearer corner first, as (0 for the start or 1 for the end, box); none when neither
-    end is a corner or the box is longer than the wall."""
+    end is a corner or the box is longer than the wall. ``arm``: +1 or -1 when only the
+    corner at the box's own +x or -x will do (an L counter's side run goes along the
+    second wall, :func:`~pair2scene.assets.forms.arm_side`)."""
+    if arm:
+        toward = 1 if arm * float(box.rotation[:2, 0] @ wall.direction) > 0 else 0
+        ends = (ends[0] and toward == 0, ends[1] and toward == 1)
     along = wall.local(box.corners()[:, :2])[:, 0]
     lo, hi = float(along.min()), float(along.max())
     half = wall.length / 2

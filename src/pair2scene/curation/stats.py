@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pair2scene.assets.forms import form_key
 from pair2scene.categories import SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
@@ -155,7 +156,10 @@ class RoomTypeStats:
     with which furniture (a room of one dresser held 12 objects, not 30). Empty in
     statistics written before it was kept (then only the two marginals are known)."""
     on_floor: Counter[str] = field(default_factory=Counter)
-    """Category -> objects of it standing on the floor."""
+    """Category -> objects of it standing on the floor. This and the three wall counts
+    below also count the objects of a form apart, under its key
+    (:func:`~pair2scene.assets.forms.form_key`: ``counter_top#shaped``, L and C counters),
+    besides their category."""
     against_wall: Counter[str] = field(default_factory=Counter)
     """Category -> of those, how many stand against a wall. Empty in statistics written
     before it was kept (then no object takes a wall anchor)."""
@@ -385,11 +389,13 @@ class HierarchyStats:
         for o in placed:
             if o.support != FLOOR:
                 continue
-            room.on_floor[o.category] += 1
             wall = wall_anchor(scene, o, walls)
-            room.against_wall[o.category] += int(wall is not None)
-            room.in_corner[o.category] += int(wall is not None and in_corner(o.box, walls))
-            room.sideways[o.category] += int(wall is not None and not against_wall(o.box, walls))
+            form = form_key(o.category, o.box.size)  # an L counter, counted apart too
+            for key in (o.category,) if form is None else (o.category, form):
+                room.on_floor[key] += 1
+                room.against_wall[key] += int(wall is not None)
+                room.in_corner[key] += int(wall is not None and in_corner(o.box, walls))
+                room.sideways[key] += int(wall is not None and not against_wall(o.box, walls))
             anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
             if wall is not None and anchor is not None:
                 d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pair2scene.assets.forms import LEFT_ARM, RIGHT_ARM, SHAPED, form_of
 from pair2scene.assets.generators.shapes import ROD_SEGMENTS, ROUND_SEGMENTS, clip, slab
 from pair2scene.assets.mesh import Part, box, box_between, cylinder, frustum, hull
 from pair2scene.assets.registry import register
@@ -748,10 +749,6 @@ def cabinet(
     return _finish(parts, h)
 
 
-SHAPED_COUNTER_M = 1.1
-"""A counter deeper and wider than this is an L or a C of cabinet runs, not a block: the
-ProcTHOR-1k kitchens' straight runs are 0.61 m deep and their islands 0.92 m, their L and
-C counters 1.22 to 3.05 m (62 L, 26 C of 146 counters in the train kitchens)."""
 C_SHARE = 26 / 88
 """Of the shaped counters, the share that are a C (a run along the back and one down each
 side); the others are an L (the back and the right side, +x: where the training rooms'
@@ -776,7 +773,8 @@ def counter_top(
     size: np.ndarray, rng: np.random.Generator, style: int, support_heights: Sequence[float] | None
 ) -> list[Part]:
     """Kitchen counter: a base cabinet on a recessed plinth (toe kick) under a top slab
-    overhanging at +y; deeper and wider than :data:`SHAPED_COUNTER_M`, an L (a run along
+    overhanging at +y; deeper and wider than
+    :data:`~pair2scene.assets.forms.SHAPED_COUNTER_M`, an L (a run along
     the back and one down the right side, its doors facing in) or a C (and one down the
     left side too) of such runs, the open floor inside.
 
@@ -784,7 +782,7 @@ def counter_top(
     alternating with door columns.
     """
     w, d, h = size
-    if min(w, d) < SHAPED_COUNTER_M:
+    if form_of("counter_top", size) != SHAPED:
         return _counter_block(size, rng, style, support_heights)
     legs = 2 if rng.random() < C_SHARE else 1
     run = min(rng.uniform(*RUN_DEPTH_M), 0.45 * d, 0.9 * w / (legs + 1))
@@ -800,7 +798,7 @@ def counter_top(
 
     parts = built(w, "back_", SHAPED_COLUMNS[0], None, (0.0, (run - d) / 2, 0.0))
     for side in (1.0, -1.0)[:legs]:  # its front faces the inside, its back the side
-        prefix = "right_" if side > 0 else "left_"
+        prefix = RIGHT_ARM if side > 0 else LEFT_ARM
         # a side run: from the back run's front to the counter's front
         parts += built(d - run, prefix, SHAPED_COLUMNS[1], rot_z(side * np.pi / 2),
                        (side * (w - run) / 2, run / 2, 0.0))  # fmt: skip

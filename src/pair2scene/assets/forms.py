@@ -1,0 +1,55 @@
+"""Forms a category's assets take by size, where the form changes how the object stands.
+
+A counter deeper and wider than :data:`SHAPED_COUNTER_M` is built as an L or a C of
+cabinet runs (:func:`~pair2scene.assets.generators.storage.counter_top`), and such
+counters stand against walls, in corners, as straight runs do not: of the training
+kitchens' floor counters (AI2-THOR + ProcTHOR-1k train), 91 of 94 shaped ones stood
+against a wall (1 of them sideways, 77 in a corner) against 120 of 140 straight runs (22
+sideways). The hierarchy statistics count the walls of a form apart
+(:func:`form_key`), and the wall rules draw a shaped counter's from them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+SHAPED_COUNTER_M = 1.1
+"""A counter deeper and wider than this is an L or a C of cabinet runs, not a block: the
+ProcTHOR-1k kitchens' straight runs are 0.61 m deep and their islands 0.92 m, their L and
+C counters 1.22 to 3.05 m (62 L, 26 C of 146 counters in the train kitchens)."""
+SHAPED = "shaped"
+"""The form of an L or C counter."""
+RIGHT_ARM, LEFT_ARM = "right_", "left_"
+"""Name prefixes of a shaped counter's side runs, at its +x and its -x."""
+FORM_MARK = "#"
+"""Joins a category and a form in a statistics key (``counter_top#shaped``)."""
+
+
+def form_of(category: str, size: Sequence[float]) -> str | None:
+    """The form of ``category``'s asset of box ``size`` (x, y, z metres) that stands
+    unlike the category's others, or None."""
+    if category == "counter_top" and min(float(size[0]), float(size[1])) >= SHAPED_COUNTER_M:
+        return SHAPED
+    return None
+
+
+def form_key(category: str, size: Sequence[float]) -> str | None:
+    """The statistics key of ``category``'s form at ``size`` (``counter_top#shaped``), or
+    None when the asset takes no particular form."""
+    form = form_of(category, size)
+    return None if form is None else f"{category}{FORM_MARK}{form}"
+
+
+def is_form_key(key: str) -> bool:
+    """Whether a statistics key names a form rather than a category."""
+    return FORM_MARK in key
+
+
+def arm_side(parts: Sequence) -> int:
+    """+1 when a shaped counter of these parts (named as
+    :func:`~pair2scene.assets.generators.storage.counter_top` names them) has its one side
+    run at +x (an L), -1 at -x, 0 for none or both (a straight run, a C): the end of its
+    back run that belongs in a corner, the side run along the second wall."""
+    right = any(p.name.startswith(RIGHT_ARM) for p in parts)
+    left = any(p.name.startswith(LEFT_ARM) for p in parts)
+    return int(right) - int(left)
