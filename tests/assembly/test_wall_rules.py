@@ -91,3 +91,26 @@ def test_wall_order_prefers_the_learned_anchor_distance():
     assert wall_order(walls, [0, 2, 0, 0], np.random.default_rng(0)) == [1]
     firsts = {wall_order(walls, [1, 1, 1, 1], np.random.default_rng(s))[0] for s in range(30)}
     assert firsts == {0, 1, 2, 3}
+
+
+def test_a_fixture_a_little_off_its_wall_counts_as_against_it_and_furniture_does_not():
+    """AI2-THOR's toilets stand 0.17-0.27 m off their floor polygon: in the wall statistics
+    a fixture counts as against the wall within FIXTURE_WALL_GAP_M, other objects within
+    0.15 m; neither is turned sideways by the wider gap, nor put in a corner."""
+    from pair2scene.curation.stats import FIXTURE_WALL_GAP_M, HierarchyStats
+    from pair2scene.scene.geometry import OrientedBox
+    from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+
+    rect = np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float)
+    off = 0.22
+    assert 0.15 < off < FIXTURE_WALL_GAP_M
+    # both face +y with their backs 0.22 m off the south wall, 0.22 m off the west one
+    toilet = OrientedBox.from_yaw([off + 0.27, off + 0.35, 0.4], [0.54, 0.7, 0.8], 0.0)
+    bed = OrientedBox.from_yaw([2.5, off + 1.0, 0.3], [1.6, 2.0, 0.6], 0.0)
+    scene = Scene("b", Room("bathroom", rect), [
+        SceneObject("toilet_0", "toilet", toilet, None, FLOOR),
+        SceneObject("bed_0", "bed", bed, None, FLOOR),
+    ])  # fmt: skip
+    rs = HierarchyStats.fit([scene]).room_types["bathroom"]
+    assert rs.against_wall["toilet"] == 1 and rs.against_wall["bed"] == 0
+    assert rs.sideways["toilet"] == 0 and rs.in_corner["toilet"] == 0
