@@ -84,7 +84,6 @@ from pair2scene.assembly.walls import (
     wall_order,
     within_reach,
 )
-from pair2scene.assets.forms import arm_side
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
@@ -759,7 +758,6 @@ class Placer:
                 )
             ):
                 ends = convex_ends(walls_of(room.floor_polygon))
-                context.arm = arm_side(asset.parts)
             accepted = None
             own: dict[str, int] = {}
             tried = 0
@@ -1192,8 +1190,7 @@ def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | N
         return [(None, turn_sideways(box, ctx.wall, ctx.room.bounds.center)), (None, box)]
     if ctx.corner is not None and ctx.wall is not None:
         index = ctx.wall.index
-        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner,
-                                                             arm=ctx.arm)
+        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
                    if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES]  # fmt: skip
         return [*corners, (None, box)]
     if ctx.spot is not None:
@@ -1234,9 +1231,6 @@ class _Context:
     corner: tuple[bool, bool] | None = None
     """Whether the start and the end of ``wall`` are convex corners, when the object is
     to stand in one (None: not asked)."""
-    arm: int = 0
-    """The side (+1 its +x, -1 its -x) whose corner an L counter stands in
-    (:func:`~pair2scene.assets.forms.arm_side`); 0: either corner."""
     corner_misses: dict = field(default_factory=dict)
     """(wall index, end) -> how many of this object's candidates slid into that corner
     did not pass."""

@@ -209,19 +209,13 @@ def within_reach(
 
 
 def to_corners(
-    box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M,
-    arm: int = 0,
-) -> list[tuple[int, OrientedBox]]:  # fmt: skip
+    box: OrientedBox, wall: Wall, ends: tuple[bool, bool], gap: float = CORNER_GAP_M
+) -> list[tuple[int, OrientedBox]]:
     """``box`` (standing against ``wall``) slid along the wall into each of its convex
     corners (``ends``: whether the wall's start and end are such corners,
     :func:`~pair2scene.scene.walls.convex_ends`), ``gap`` short of the other wall, the
     nearer corner first, as (0 for the start or 1 for the end, box); none when neither
-    end is a corner or the box is longer than the wall. ``arm``: +1 or -1 when only the
-    corner at the box's own +x or -x will do (an L counter's side run goes along the
-    second wall, :func:`~pair2scene.assets.forms.arm_side`)."""
-    if arm:
-        toward = 1 if arm * float(box.rotation[:2, 0] @ wall.direction) > 0 else 0
-        ends = (ends[0] and toward == 0, ends[1] and toward == 1)
+    end is a corner or the box is longer than the wall."""
     along = wall.local(box.corners()[:, :2])[:, 0]
     lo, hi = float(along.min()), float(along.max())
     half = wall.length / 2

@@ -19,8 +19,6 @@ ProcTHOR-1k kitchens' straight runs are 0.61 m deep and their islands 0.92 m, th
 C counters 1.22 to 3.05 m (62 L, 26 C of 146 counters in the train kitchens)."""
 SHAPED = "shaped"
 """The form of an L or C counter."""
-RIGHT_ARM, LEFT_ARM = "right_", "left_"
-"""Name prefixes of a shaped counter's side runs, at its +x and its -x."""
 FORM_MARK = "#"
 """Joins a category and a form in a statistics key (``counter_top#shaped``)."""
 
@@ -43,13 +41,3 @@ def form_key(category: str, size: Sequence[float]) -> str | None:
 def is_form_key(key: str) -> bool:
     """Whether a statistics key names a form rather than a category."""
     return FORM_MARK in key
-
-
-def arm_side(parts: Sequence) -> int:
-    """+1 when a shaped counter of these parts (named as
-    :func:`~pair2scene.assets.generators.storage.counter_top` names them) has its one side
-    run at +x (an L), -1 at -x, 0 for none or both (a straight run, a C): the end of its
-    back run that belongs in a corner, the side run along the second wall."""
-    right = any(p.name.startswith(RIGHT_ARM) for p in parts)
-    left = any(p.name.startswith(LEFT_ARM) for p in parts)
-    return int(right) - int(left)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pair2scene.assets.forms import LEFT_ARM, RIGHT_ARM, SHAPED, form_of
+from pair2scene.assets.forms import SHAPED, form_of
 from pair2scene.assets.generators.shapes import ROD_SEGMENTS, ROUND_SEGMENTS, clip, slab
 from pair2scene.assets.mesh import Part, box, box_between, cylinder, frustum, hull
 from pair2scene.assets.registry import register
@@ -798,7 +798,7 @@ def counter_top(
 
     parts = built(w, "back_", SHAPED_COLUMNS[0], None, (0.0, (run - d) / 2, 0.0))
     for side in (1.0, -1.0)[:legs]:  # its front faces the inside, its back the side
-        prefix = RIGHT_ARM if side > 0 else LEFT_ARM
+        prefix = "right_" if side > 0 else "left_"
         # a side run: from the back run's front to the counter's front
         parts += built(d - run, prefix, SHAPED_COLUMNS[1], rot_z(side * np.pi / 2),
                        (side * (w - run) / 2, run / 2, 0.0))  # fmt: skip
