@@ -57,6 +57,8 @@ def perturbed_model(config: LayoutConfig, seed: int = 0) -> LayoutPredictor:
             p.add_(0.3 * torch.randn(p.shape, generator=g))
         if config.uses_pair_prior:  # a table with every pair's own centre
             model.pair_centre.copy_(torch.randn(model.pair_centre.shape, generator=g))
+        if config.uses_pair_turns:  # and its own split of yaw turns
+            model.pair_turn.copy_(torch.randn(model.pair_turn.shape, generator=g))
     return model
 
 
@@ -121,6 +123,8 @@ VARIANTS = {
     "pair prior": tiny_config("full", pair_prior=True),
     "pair prior, no anchor frames": tiny_config("full", pair_prior=True, anchor_frames=False),
     "pair prior, class-only": tiny_config("class-only", pair_prior=True),
+    "pair turns": tiny_config("full", pair_prior=True, pair_turns=True),
+    "pair turns, no anchor frames": tiny_config("full", pair_turns=True, anchor_frames=False),
 }
 
 

@@ -34,8 +34,11 @@ from pair2scene.model.layout import LayoutBatch, LayoutPredictor  # noqa: E402
 from pair2scene.model.pair_prior import (  # noqa: E402
     frame_anchor,
     pair_centre_table,
+    pair_turn_table,
     table_centres,
+    table_rows,
     table_shape,
+    turn_table_shape,
 )
 
 N = len(CATEGORY_VOCAB)
@@ -137,3 +140,65 @@ def test_the_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
     del doc["pair_prior"]  # written before the table
     assert layout_config_from_dict(doc).pair_prior is False
     assert not tiny(variant=LayoutVariant.GLOBAL, pair_prior=True).uses_pair_prior
+
+
+def test_a_pairs_yaw_turns_are_its_smoothed_log_shares():
+    """Pillows on a bed: 6 along it (two of them a few degrees off), 3 turned end-on
+    (+90), 1 upside down (180): log shares with one pseudo-count per turn, centred."""
+    k = max(PAIR_PRIOR_MIN_TUPLES, 10)
+    yaws = np.radians([0, 0, 0, 0, 2, -3, 90, 90, 91, 180] + [0] * (k - 10))
+    cats = np.array([[PILLOW, BED, -1]] * k)
+    frames = np.full(k, FRAME_SUPPORT)
+    rot = np.stack([np.cos(yaws), np.sin(yaws)], axis=1)
+    rare = np.array([[BOOK, BED, -1]] * (PAIR_PRIOR_MIN_TUPLES - 1))
+    table = pair_turn_table(
+        np.concatenate([cats, rare]),
+        np.full(len(cats) + len(rare), FRAME_SUPPORT),
+        np.concatenate([rot, np.tile([[0.0, 1.0]], (len(rare), 1))]),
+        N,
+        4,
+    )
+    assert table.shape == turn_table_shape(N, 4) and table.dtype == np.float32
+    counts = np.array([6 + k - 10, 3, 1, 0]) + 1.0
+    want = np.log(counts / counts.sum())
+    np.testing.assert_allclose(table[BED, PILLOW, FRAME_SUPPORT], want - want.mean(), atol=1e-6)
+    assert not table[BED, BOOK].any()  # one tuple short: the network's split alone
+    np.testing.assert_allclose(
+        table_rows(table, cats[:1], frames[:1])[0], table[BED, PILLOW, FRAME_SUPPORT]
+    )
+
+
+def test_the_predictor_adds_the_pairs_turn_shares_to_every_components_turn_logits():
+    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True, pair_turns=True)
+    model = LayoutPredictor(config, None, torch.Generator().manual_seed(0)).eval()
+    assert not model.pair_turn.any()  # empty until the trainer fills it
+    batch = batch_on_a_bed()
+    k, q = config.mixture.num_components, config.mixture.yaw_modes
+    prior = torch.tensor([1.5, -0.5, -0.2, -0.8])
+    with torch.no_grad():
+        before = model(batch)[0]
+        model.pair_turn[BED, PILLOW, FRAME_SUPPORT] = prior
+        after = model(batch)[0]
+    # each component's weight stays; its split among the turns moves by the prior
+    w_before = before.logits.reshape(3, k, q).logsumexp(-1)
+    w_after = after.logits.reshape(3, k, q).logsumexp(-1)
+    torch.testing.assert_close(w_after.log_softmax(-1), w_before.log_softmax(-1))
+    split_before = before.logits.reshape(3, k, q).log_softmax(-1)
+    split_after = after.logits.reshape(3, k, q).log_softmax(-1)
+    torch.testing.assert_close(split_after, (split_before + prior).log_softmax(-1))
+    torch.testing.assert_close(after.loc, before.loc)
+    torch.testing.assert_close(after.log_scale, before.log_scale)
+
+
+def test_the_turn_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
+    on = tiny(pair_turns=True)
+    shapes = expected_shapes(on, None)
+    assert shapes["pair_turn"] == turn_table_shape(on.n_categories, on.mixture.yaw_modes)
+    assert "pair_turn" not in expected_shapes(tiny(), None)
+    model = LayoutPredictor(on, None, materialise=False)
+    assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
+    doc = json.loads(json.dumps(layout_config_to_dict(on)))
+    assert layout_config_from_dict(doc) == on
+    del doc["pair_turns"]  # written before the turn table
+    assert layout_config_from_dict(doc).pair_turns is False
+    assert not tiny(variant=LayoutVariant.GLOBAL, pair_turns=True).uses_pair_turns

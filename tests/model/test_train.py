@@ -78,6 +78,35 @@ def test_the_checkpoint_holds_the_pair_table_of_the_train_tuples_only(trained, p
     np.testing.assert_array_equal(got, want)
     everything = pair_centre_table(arrays.categories, arrays.frames, arrays.target, len(want))
     assert not np.array_equal(everything, want)  # the val tuples would move it
+    assert doc["layout"]["pair_turns"] is False  # the default: no yaw-turn table
+    assert "pair_turn" not in load_file(str(trained.out_dir / WEIGHTS_FILE))
+
+
+def test_pair_turns_put_the_train_tuples_yaw_turn_table_in_the_checkpoint(
+    tmp_path, pairs_dir, tiny_encoder
+):
+    from safetensors.numpy import load_file
+
+    from pair2scene.curation.dataset import CATEGORY_VOCAB
+    from pair2scene.model.features import dataset_features
+    from pair2scene.model.pair_prior import pair_turn_table
+    from pair2scene.model.train import _split_rows, _subset
+
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, pair_turns=True)
+    run = train(cfg, pairs_dir, tmp_path, progress=False)
+    doc = json.loads((run.out_dir / CONFIG_FILE).read_text())
+    assert doc["layout"]["pair_turns"] is True
+    data = load_pairs(pairs_dir)
+    arrays = dataset_features(data, "full", anchor_frames=True).arrays
+    rows = _subset(arrays, _split_rows(data, "train"))
+    want = pair_turn_table(
+        rows.categories, rows.frames, rows.target[:, 6:8], len(CATEGORY_VOCAB),
+        doc["layout"]["mixture"]["yaw_modes"],
+    )  # fmt: skip
+    assert want.any()  # the synthetic corpus has pairs with enough tuples
+    np.testing.assert_array_equal(load_file(str(run.out_dir / WEIGHTS_FILE))["pair_turn"], want)
+    model = from_pretrained(run.out_dir)  # and generation reads it
+    assert model.net._pair_turn is not None
 
 
 def test_score_of_the_checkpoint_is_the_training_val_nll(trained, pairs_dir):

@@ -207,6 +207,14 @@ def train_command(
             "network alone."
         ),
     ] = True,
+    pair_turns: Annotated[
+        bool,
+        typer.Option(
+            help="Add each category pair's share of each right-angle yaw turn over the train "
+            "tuples to the network's turn logits (a pair keeps its own split of yaws); off "
+            "by default (the bundled model): the network alone (docs/model.md)."
+        ),
+    ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.
@@ -231,6 +239,7 @@ def train_command(
         anchor_frames=anchor_frames,
         yaw_modes=yaw_modes,
         pair_prior=pair_prior,
+        pair_turns=pair_turns,
     )
     result = train(config, data, out, progress=not as_json)
     doc = {

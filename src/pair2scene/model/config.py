@@ -198,6 +198,14 @@ class LayoutConfig:
     residual, so a rare pair (a pillow on a bed) keeps its own placement where a shared
     network averages it away (docs/model.md). The table is the checkpoint's
     ``pair_centre`` buffer. ``global`` ignores it."""
+    pair_turns: bool = False
+    """Add each (frame anchor, dependent) pair's log share of each right-angle yaw turn
+    (from the train tuples, pairs with at least :data:`PAIR_PRIOR_MIN_TUPLES`) to every
+    component's turn logits: the network predicts the residual, so a pair keeps its own
+    split of yaws (a pillow on a bed along it, turned end-on only by a fifth) where a
+    shared network gives every small object on a bed one split (docs/model.md). The table
+    is the checkpoint's ``pair_turn`` buffer. Needs ``mixture.yaw_modes`` > 1; ``global``
+    ignores it."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "variant", LayoutVariant(self.variant))
@@ -225,6 +233,15 @@ class LayoutConfig:
     def uses_pair_prior(self) -> bool:
         """Whether the network adds the pair table's centres (``global`` never does)."""
         return self.pair_prior and self.variant is not LayoutVariant.GLOBAL
+
+    @property
+    def uses_pair_turns(self) -> bool:
+        """Whether the network adds the pair table's yaw-turn shares to its turn logits."""
+        return (
+            self.pair_turns
+            and self.mixture.yaw_modes > 1
+            and self.variant is not LayoutVariant.GLOBAL
+        )
 
     @property
     def uses_points(self) -> bool:

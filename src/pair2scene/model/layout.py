@@ -123,7 +123,7 @@ from pair2scene.model.mixture import (
     mixture_params_from_head,
     target_from_box_vector,
 )
-from pair2scene.model.pair_prior import CENTRE_DIMS, table_shape
+from pair2scene.model.pair_prior import CENTRE_DIMS, table_shape, turn_table_shape
 
 
 @dataclass
@@ -339,6 +339,9 @@ class LayoutPredictor(nn.Module):
                 self.frame = nn.Embedding(len(FRAME_NAMES), c.width)
             if c.uses_pair_prior:  # filled by the trainer, loaded with the weights
                 self.register_buffer("pair_centre", torch.empty(table_shape(c.n_categories)))
+            if c.uses_pair_turns:  # the same
+                shape = turn_table_shape(c.n_categories, c.mixture.yaw_modes)
+                self.register_buffer("pair_turn", torch.empty(shape))
         if materialise:
             self.to_empty(device="cpu")
             seeded = torch.Generator().manual_seed(0) if generator is None else generator
@@ -388,6 +391,8 @@ class LayoutPredictor(nn.Module):
         normal(self.unknown_box, 1.0)  # like the box MLP's output: O(1) per element
         if self.config.uses_pair_prior:
             nn.init.zeros_(self.pair_centre)  # no pair's centre until the trainer fills it
+        if self.config.uses_pair_turns:
+            nn.init.zeros_(self.pair_turn)
 
     def train(self, mode: bool = True) -> LayoutPredictor:
         super().train(mode)
@@ -475,6 +480,10 @@ class LayoutPredictor(nn.Module):
         dependent = self.ln_f(x[:, :q]).reshape(b, q * d)  # (B, Q*D)
         raw = self.head(dependent)  # (B, K*(1+2*12+Q))
         mix = c.mixture
+        if c.uses_pair_turns:  # the pair's own split of yaw turns, to every component
+            k, turns = mix.num_components, mix.yaw_modes
+            prior = self.pair_lookup(self.pair_turn, batch).repeat(1, k)  # (B, K*Q)
+            raw = torch.cat([raw[:, : -k * turns], raw[:, -k * turns :] + prior], dim=1)
         params = mixture_params_from_head(
             raw, mix.num_components, BOX_DIM, mix.min_log_scale, mix.max_log_scale, mix.yaw_modes
         )
@@ -512,15 +521,18 @@ class LayoutPredictor(nn.Module):
     def pair_centres(self, batch: LayoutBatch) -> Tensor:
         """(B, 2) the pair table's centre of each tuple (:mod:`pair2scene.model.pair_prior`;
         0 for a pair it lacks)."""
+        return self.pair_lookup(self.pair_centre, batch)
+
+    def pair_lookup(self, table: Tensor, batch: LayoutBatch) -> Tensor:
+        """(B, ...) ``table``'s row (indexed [frame anchor, dependent, frame]) of each
+        tuple."""
         cats = batch.categories
         frames = batch.frames if self.uses_frames else None
         frames = frames if frames is not None else torch.zeros_like(cats[:, 0])
         anchor = torch.where(frames == FRAME_FUNCTIONAL, cats[:, FUNCTIONAL], cats[:, SUPPORT])
         anchor = torch.where(frames == FRAME_WALL, WALL_INDEX, anchor)
-        n_anchor, n_dep = self.pair_centre.shape[:2]
-        return self.pair_centre[
-            anchor.clamp(0, n_anchor - 1), cats[:, DEPENDENT].clamp(0, n_dep - 1), frames
-        ]
+        n_anchor, n_dep = table.shape[:2]
+        return table[anchor.clamp(0, n_anchor - 1), cats[:, DEPENDENT].clamp(0, n_dep - 1), frames]
 
     def loss(self, params: MixtureParams, target: Tensor) -> tuple[Tensor, LossParts]:
         """Mean NLL of ``target`` (B, 12) plus the configured entropy term; and its parts."""

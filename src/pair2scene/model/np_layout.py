@@ -46,7 +46,7 @@ from pair2scene.model.config import (
     LayoutVariant,
     check_draw,
 )
-from pair2scene.model.pair_prior import CENTRE_DIMS, table_centres
+from pair2scene.model.pair_prior import CENTRE_DIMS, table_centres, table_rows
 
 
 class MixtureArrays(NamedTuple):
@@ -295,6 +295,7 @@ class NumpyPredictor:
         self._known_size_mlp = mlp("known_size_mlp")
         self._frame = arrays["frame.weight"] if self.uses_frames else None
         self._pair_centre = arrays["pair_centre"] if c.uses_pair_prior else None
+        self._pair_turn = arrays["pair_turn"] if c.uses_pair_turns else None
         if c.uses_points:
             self._point_proj = linear("point_proj")
             self._point_pos = mlp("point_pos")
@@ -405,6 +406,11 @@ class NumpyPredictor:
 
         dependent = _layer_norm(x[:, DEPENDENT], self._ln_f).reshape(b, q * d)  # (B, Q*D)
         raw = _mlp(dependent, self._head)  # (B, K*(1+2*12+Q))
+        if self._pair_turn is not None:  # the pair's own split of yaw turns
+            k, turns = c.mixture.num_components, c.mixture.yaw_modes
+            kinds = np.asarray(frames) if self._frame is not None and frames is not None else None
+            prior = table_rows(self._pair_turn, categories, kinds)  # (B, Q)
+            raw[:, -k * turns :] += np.tile(prior, (1, k))
         params = self._mixture_from_head(raw)
         np.add(params.loc, known[:, None, :], out=params.loc)
         return params

@@ -69,26 +69,72 @@ def pair_centre_table(
     target centres in their frames (``TupleArrays.target[:, :2]``).
     """
     table = np.zeros(table_shape(n_categories), np.float32)
+    groups = _pair_groups(categories, frames, n_categories, min_tuples)
+    for (a, d, f), rows in groups:
+        table[a, d, f] = np.median(np.asarray(centres, np.float64)[rows, :CENTRE_DIMS], axis=0)
+    return table
+
+
+def _pair_groups(
+    categories: np.ndarray, frames: np.ndarray | None, n_categories: int, min_tuples: int
+) -> list[tuple[tuple[int, int, int], np.ndarray]]:
+    """((frame anchor, dependent, frame), the rows of its tuples) of every key with at
+    least ``min_tuples`` tuples."""
     if len(categories) == 0:
-        return table
+        return []
     frame = np.zeros(len(categories), np.int64) if frames is None else np.asarray(frames)
     anchor = frame_anchor(np.asarray(categories), frame)
     dep = np.asarray(categories)[:, DEPENDENT]
     key = np.stack([anchor, dep, frame], axis=1)
-    valid = (key >= 0).all(axis=1) & (anchor < n_categories) & (dep < n_categories)
+    valid = np.flatnonzero((key >= 0).all(axis=1) & (anchor < n_categories) & (dep < n_categories))
     pairs, inverse, counts = np.unique(key[valid], axis=0, return_inverse=True, return_counts=True)
-    xy = np.asarray(centres, np.float64)[valid, :CENTRE_DIMS]
-    for i in np.flatnonzero(counts >= min_tuples):
-        a, d, f = pairs[i]
-        table[a, d, f] = np.median(xy[inverse.reshape(-1) == i], axis=0)
+    inverse = inverse.reshape(-1)
+    return [
+        (tuple(int(v) for v in pairs[i]), valid[inverse == i])
+        for i in np.flatnonzero(counts >= min_tuples)
+    ]
+
+
+def turn_table_shape(n_categories: int, turns: int) -> tuple[int, int, int, int]:
+    """(anchors, dependents, frames, Q): the ``pair_turn`` buffer's shape."""
+    return (n_categories, n_categories, len(FRAME_NAMES), turns)
+
+
+def pair_turn_table(
+    categories: np.ndarray,
+    frames: np.ndarray | None,
+    rotations: np.ndarray,
+    n_categories: int,
+    turns: int,
+    min_tuples: int = PAIR_PRIOR_MIN_TUPLES,
+) -> np.ndarray:
+    """The yaw-turn table (:func:`turn_table_shape`, float32) from train tuples: for a pair
+    with at least ``min_tuples``, the log share of its tuples whose yaw in the frame is
+    nearest to each of the ``turns`` right-angle turns (``q * 360 / turns`` degrees; one
+    pseudo-count per turn), minus their mean; 0 elsewhere (the network's split alone).
+
+    rotations : (N, >= 2) the tuples' target rotation's first column, x and y
+    (``TupleArrays.target[:, 6:8]``: cos and sin of the yaw).
+    """
+    table = np.zeros(turn_table_shape(n_categories, turns), np.float32)
+    rot = np.asarray(rotations, np.float64)
+    yaw = np.arctan2(rot[:, 1], rot[:, 0]) if len(rot) else np.zeros(0)
+    turn = np.rint(yaw / (2 * np.pi / turns)).astype(np.int64) % turns
+    for (a, d, f), rows in _pair_groups(categories, frames, n_categories, min_tuples):
+        share = np.bincount(turn[rows], minlength=turns) + 1.0
+        logs = np.log(share / share.sum())
+        table[a, d, f] = logs - logs.mean()
     return table
 
 
-def table_centres(
-    table: np.ndarray, categories: np.ndarray, frames: np.ndarray | None
-) -> np.ndarray:
-    """(B, 2) the table's centre for each tuple (0 for a pair it lacks)."""
+def table_rows(table: np.ndarray, categories: np.ndarray, frames: np.ndarray | None):
+    """(B, ...) ``table``'s row for each tuple (0 for a pair it lacks): (B, 2) centres of
+    :func:`pair_centre_table`, (B, Q) log shares of :func:`pair_turn_table`."""
     frame = np.zeros(len(categories), np.int64) if frames is None else np.asarray(frames)
     anchor = np.clip(frame_anchor(categories, frame), 0, table.shape[0] - 1)
     dep = np.clip(categories[:, DEPENDENT], 0, table.shape[1] - 1)
     return table[anchor, dep, frame]
+
+
+table_centres = table_rows
+"""(B, 2) the pair table's centre for each tuple (0 for a pair it lacks)."""
