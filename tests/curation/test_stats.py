@@ -140,6 +140,22 @@ def test_bad_json_is_a_user_error(text, message):
         HierarchyStats.from_json(text, "stats.json")
 
 
+@pytest.mark.parametrize(
+    "row",
+    [
+        {"on_floor": -3, "against_wall": 0},
+        {"on_floor": 2, "against_wall": 3},
+        {"on_floor": 4, "against_wall": 2, "in_corner": 3},
+        {"on_floor": 4, "against_wall": 2, "sideways": -1},
+    ],
+)
+def test_impossible_wall_counts_are_a_user_error(row):
+    doc = json.loads(HierarchyStats.fit(scenes()).to_json())
+    doc["room_types"]["bedroom"]["walls"]["counter_top#shaped"] = row
+    with pytest.raises(UserError, match="malformed statistics.*walls of counter_top#shaped"):
+        HierarchyStats.from_dict(doc, "stats.json")
+
+
 def test_windows_per_room_and_their_shapes_are_counted():
     from pair2scene.scene.model import Opening
 

@@ -630,10 +630,13 @@ class HierarchyStats:
                         rs.layout_counts[key, int(k)] += int(v)
                 rs.object_counts = Counter({int(k): int(v) for k, v in rd["object_counts"].items()})
                 for cat, w in rd.get("walls", {}).items():
-                    rs.on_floor[cat] = int(w["on_floor"])
-                    rs.against_wall[cat] = int(w["against_wall"])
-                    rs.in_corner[cat] = int(w.get("in_corner", 0))
-                    rs.sideways[cat] = int(w.get("sideways", 0))
+                    n, by_wall = int(w["on_floor"]), int(w["against_wall"])
+                    corner, side = int(w.get("in_corner", 0)), int(w.get("sideways", 0))
+                    if not (0 <= by_wall <= n and 0 <= corner <= by_wall and 0 <= side <= by_wall):
+                        raise ValueError(f"walls of {cat}: {by_wall} of {n} against a wall, "
+                                         f"{corner} in a corner, {side} sideways")  # fmt: skip
+                    rs.on_floor[cat], rs.against_wall[cat] = n, by_wall
+                    rs.in_corner[cat], rs.sideways[cat] = corner, side
                 for k, v in rd.get("window_counts", {}).items():
                     rs.window_counts[int(k)] = int(v)
                 for width, sill, top, n in rd.get("window_shapes", []):
