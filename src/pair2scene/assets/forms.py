@@ -36,8 +36,3 @@ def form_key(category: str, size: Sequence[float]) -> str | None:
     None when the asset takes no particular form."""
     form = form_of(category, size)
     return None if form is None else f"{category}{FORM_MARK}{form}"
-
-
-def is_form_key(key: str) -> bool:
-    """Whether a statistics key names a form rather than a category."""
-    return FORM_MARK in key
