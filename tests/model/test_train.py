@@ -82,6 +82,11 @@ def test_the_checkpoint_holds_the_pair_table_of_the_train_tuples_only(trained, p
     assert "pair_turn" not in load_file(str(trained.out_dir / WEIGHTS_FILE))
 
 
+def test_pair_turns_without_yaw_turns_is_a_user_error():
+    with pytest.raises(UserError, match="--pair-turns needs yaw turns"):
+        TrainConfig(preset="tiny", pair_turns=True, yaw_modes=1).resolved_preset()
+
+
 def test_pair_turns_put_the_train_tuples_yaw_turn_table_in_the_checkpoint(
     tmp_path, pairs_dir, tiny_encoder
 ):

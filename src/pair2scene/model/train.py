@@ -114,6 +114,8 @@ class TrainConfig:
             except ValueError as e:
                 raise UserError(f"--yaw-modes: {e}") from None
             p = dataclasses.replace(p, layout=dataclasses.replace(p.layout, mixture=mix))
+        if self.pair_turns and p.layout.mixture.yaw_modes == 1:
+            raise UserError("--pair-turns needs yaw turns to share out: --yaw-modes 2 or 4")
         return p
 
 
