@@ -35,7 +35,6 @@ from pair2scene.model.pair_prior import (  # noqa: E402
     frame_anchor,
     pair_centre_table,
     pair_turn_table,
-    table_centres,
     table_rows,
     table_shape,
     turn_table_shape,
@@ -83,8 +82,8 @@ def test_the_frame_anchor_keys_the_pair():
     np.testing.assert_allclose(table[DESK, CHAIR, FRAME_FUNCTIONAL], [0.0, 0.8])
     np.testing.assert_allclose(table[WALL_INDEX, BED, FRAME_WALL], [0.1, 0.4])
     assert not table[FLOOR_INDEX].any()
-    np.testing.assert_allclose(table_centres(table, cats[:1], frames[:1]), [[0.0, 0.8]])
-    assert not table_centres(table, cats[:1], None).any()  # the floor's row is empty
+    np.testing.assert_allclose(table_rows(table, cats[:1], frames[:1]), [[0.0, 0.8]])
+    assert not table_rows(table, cats[:1], None).any()  # the floor's row is empty
 
 
 def test_no_tuples_give_an_empty_table():

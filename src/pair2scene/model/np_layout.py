@@ -46,7 +46,7 @@ from pair2scene.model.config import (
     LayoutVariant,
     check_draw,
 )
-from pair2scene.model.pair_prior import CENTRE_DIMS, table_centres, table_rows
+from pair2scene.model.pair_prior import CENTRE_DIMS, table_rows
 
 
 class MixtureArrays(NamedTuple):
@@ -386,9 +386,10 @@ class NumpyPredictor:
             if b and not 0 <= kinds.min() <= kinds.max() < len(self._frame):
                 raise ValueError(f"frames must be in [0, {len(self._frame)}): {kinds}")
             dep_spatial += self._frame[kinds]
+        # the frame kinds the pair tables are keyed by (None: every tuple its support's)
+        keyed = np.asarray(frames) if self._frame is not None and frames is not None else None
         if self._pair_centre is not None:  # the centre the pair table gives (x, y)
-            kinds = np.asarray(frames) if self._frame is not None and frames is not None else None
-            known[:, :CENTRE_DIMS] = table_centres(self._pair_centre, categories, kinds)
+            known[:, :CENTRE_DIMS] = table_rows(self._pair_centre, categories, keyed)
         spatial = np.concatenate([dep_spatial[:, None], _mlp(boxes, self._box_mlp)], axis=1)
         spatial = spatial[:, :, None, :]  # (B, M, 1, D): one per member, all its tokens
         key_bias = None  # absent members' tokens are no keys
@@ -408,8 +409,7 @@ class NumpyPredictor:
         raw = _mlp(dependent, self._head)  # (B, K*(1+2*12+Q))
         if self._pair_turn is not None:  # the pair's own split of yaw turns
             k, turns = c.mixture.num_components, c.mixture.yaw_modes
-            kinds = np.asarray(frames) if self._frame is not None and frames is not None else None
-            prior = table_rows(self._pair_turn, categories, kinds)  # (B, Q)
+            prior = table_rows(self._pair_turn, categories, keyed)  # (B, Q)
             raw[:, -k * turns :] += np.tile(prior, (1, k))
         params = self._mixture_from_head(raw)
         np.add(params.loc, known[:, None, :], out=params.loc)

@@ -134,7 +134,3 @@ def table_rows(table: np.ndarray, categories: np.ndarray, frames: np.ndarray | N
     anchor = np.clip(frame_anchor(categories, frame), 0, table.shape[0] - 1)
     dep = np.clip(categories[:, DEPENDENT], 0, table.shape[1] - 1)
     return table[anchor, dep, frame]
-
-
-table_centres = table_rows
-"""(B, 2) the pair table's centre for each tuple (0 for a pair it lacks)."""
