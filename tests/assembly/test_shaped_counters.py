@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from pair2scene.assembly.walls import WallRules
@@ -38,11 +40,11 @@ def _kitchen(i: int) -> Scene:
 
 
 def test_statistics_count_the_shaped_form_apart_and_round_trip():
-    stats = HierarchyStats.fit([_kitchen(i) for i in range(4)])
+    stats = HierarchyStats.fit([_kitchen(i) for i in range(6)])
     rs = stats.room_types["kitchen"]
-    assert rs.on_floor["counter_top"] == 8 and rs.against_wall["counter_top"] == 6
-    assert rs.on_floor["counter_top#shaped"] == 4 and rs.against_wall["counter_top#shaped"] == 4
-    assert rs.in_corner["counter_top#shaped"] == 4
+    assert rs.on_floor["counter_top"] == 12 and rs.against_wall["counter_top"] == 9
+    assert rs.on_floor["counter_top#shaped"] == 6 and rs.against_wall["counter_top#shaped"] == 6
+    assert rs.in_corner["counter_top#shaped"] == 6
     back = HierarchyStats.from_json(stats.to_json())
     assert back.room_types["kitchen"].on_floor == rs.on_floor
     rules = WallRules.from_stats(back)
@@ -53,6 +55,21 @@ def test_statistics_count_the_shaped_form_apart_and_round_trip():
     assert rules.corner_rate("kitchen", "counter_top", shaped) == 1.0
     assert all(rules.against_wall("kitchen", "counter_top", s, shaped) for s in range(50))
     assert rules.rate("bedroom", "counter_top", shaped) == 1.0  # pooled over room types
+
+
+def test_a_form_seen_a_few_times_takes_its_categorys_shares():
+    """One L counter in four kitchens, against no wall: its form's 0 of 1 is not trusted,
+    the category's 3 of 4 stands in (MIN_FORM_OBJECTS)."""
+    scenes = [_kitchen(i) for i in range(4)]
+    for scene in scenes[1:]:  # three kitchens keep only their run, all against the wall
+        scene.objects[:] = [o for o in scene.objects if o.id == "counter_1"]
+        scene.objects[0] = replace(scene.objects[0], box=OrientedBox.from_yaw(
+            [2.0, 3.7, 0.45], [1.6, 0.6, 0.9], np.pi))  # fmt: skip
+    island = OrientedBox.from_yaw([2.5, 2.0, 0.45], [2.0, 1.8, 0.9], 0.0)  # an L mid-room
+    scenes[0].objects[0] = replace(scenes[0].objects[0], box=island)
+    rules = WallRules.from_stats(HierarchyStats.fit(scenes))
+    assert rules.rates["kitchen"]["counter_top#shaped"] == (0, 1)
+    assert rules.rate("kitchen", "counter_top", [2.0, 1.8, 0.9]) == 0.8  # 4 of 5
 
 
 def test_statistics_without_forms_give_the_category_rate():

@@ -127,3 +127,23 @@ def test_placement_stands_a_sofa_sideways_as_often_as_the_rules_say(sideways):
         faces = {c.face for c in face_contacts(sofa.box, walls)}
         assert faces, "against a wall"
         assert ("back" in faces) != sideways
+
+
+@pytest.mark.parametrize("sideways", [False, True])
+def test_a_candidate_drawn_back_to_its_wall_may_not_stand_side_to_it(sideways):
+    """Drawn against the east wall and not turned by the wall rules, a sofa whose arm
+    touches the wall is rejected (side_to_wall): the sideways share is the rules' draw,
+    not the model's yaw. Turned by them, it stands."""
+    from pair2scene.assembly.place import Placer, _Context, _stack
+
+    walls = walls_of(RECT)
+    ctx = _Context(FLOOR, {}, Room("living_room", RECT), ([], None), _stack([], 0.0), [],
+                   None, None, None)  # fmt: skip
+    ctx.wall, ctx.sideways = walls[1], sideways
+    arm = OrientedBox.from_yaw([3.995, 2.0, 0.4], [2.0, 0.9, 0.8], 0.0)
+    back = OrientedBox.from_yaw([4.545, 2.0, 0.4], [2.0, 0.9, 0.8], np.pi / 2)
+    assert {c.face for c in face_contacts(arm, [walls[1]])} == {"right"}
+    assert {c.face for c in face_contacts(back, [walls[1]])} == {"back"}
+    placer = Placer.__new__(Placer)
+    assert placer._blocked(arm, ctx)[0] == (None if sideways else "side_to_wall")
+    assert placer._blocked(back, ctx)[0] is None

@@ -1126,7 +1126,10 @@ class Placer:
         through a wall, "faces_away" / "not_in_front" / "wrong_half" / "far_from_anchor":
         not at its functional anchor as the training rooms' pairs were, "turned" /
         "off_spot": not how or where the training rooms' objects stood on their support,
-        "off_wall": no longer against the wall it was drawn against, "door", "collision",
+        "off_wall": no longer against the wall it was drawn against, "side_to_wall": a
+        side, not its back, against it when the wall rules did not turn it sideways
+        (:meth:`_sideways`; the data's share of sideways objects is drawn there, not left
+        to the model's yaw), "door", "collision",
         "blocks_path") and what it hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
@@ -1138,8 +1141,12 @@ class Placer:
             reason = ctx.anchor.reason(box, ctx.wall)
             if reason is not None:
                 return reason, []
-        if ctx.wall is not None and wall_contact(box, [ctx.wall]) is None:
-            return "off_wall", []  # pushed off the wall it was drawn against
+        if ctx.wall is not None:
+            contact = wall_contact(box, [ctx.wall])
+            if contact is None:
+                return "off_wall", []  # pushed off the wall it was drawn against
+            if contact.face != "back" and not ctx.sideways:
+                return "side_to_wall", []  # the wall rules drew it back to the wall
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
         if ctx.mount is None and ctx.doors[0]:  # (what rests on a table may overhang it)
             doors = ctx.doors[1].overlaps(center, half, rot)[0]

@@ -39,6 +39,11 @@ _SIDEWAYS_SALT = 29
 """The same for the sideways draw."""
 CORNER_GAP_M = 0.005
 """Gap left between an object put in a corner and the second wall."""
+MIN_FORM_OBJECTS = 5
+"""Objects of a form (an L counter) a room type must have held for its own wall, corner
+and sideways shares to be used there; fewer, and the category's shares in that room type
+stand in (one L counter in the training bathrooms, standing sideways, would otherwise
+turn every generated bathroom's L sideways)."""
 
 
 @dataclass
@@ -91,8 +96,8 @@ class WallRules:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
         every room type when this one never held it; 0 when none did). With the object's
         ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
-        statistics counted that form."""
-        return _share(self.rates, room_type, _key(self.rates, category, size))
+        statistics counted enough of that form in ``room_type`` (:data:`MIN_FORM_OBJECTS`)."""
+        return _share(self.rates, room_type, _key(self.rates, room_type, category, size))
 
     def against_wall(self, room_type: str, category: str, seed: int, size=None) -> bool:
         """Whether an object (``seed``: its asset seed; ``size``: its box, for its form)
@@ -104,7 +109,7 @@ class WallRules:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         in a corner (over every room type when this one never had one against a wall; of
         its form's with ``size``, as :meth:`rate`)."""
-        return _share(self.corners, room_type, _key(self.corners, category, size))
+        return _share(self.corners, room_type, _key(self.corners, room_type, category, size))
 
     def in_corner(self, room_type: str, category: str, seed: int, size=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
@@ -115,7 +120,7 @@ class WallRules:
     def sideways_rate(self, room_type: str, category: str, size=None) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         with a side, not their back, against it (pooled, and of its form, as :meth:`rate`)."""
-        return _share(self.sideways, room_type, _key(self.sideways, category, size))
+        return _share(self.sideways, room_type, _key(self.sideways, room_type, category, size))
 
     def turned(self, room_type: str, category: str, seed: int, size=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands sideways to
@@ -128,13 +133,22 @@ class WallRules:
         return self.distances.get(dependent, {}).get(anchor)
 
 
-def _key(table: dict[str, dict[str, tuple[float, float]]], category: str, size) -> str:
-    """``category``'s form key at ``size`` when some room type of ``table`` counted that
-    form, else ``category`` (statistics written before forms were counted)."""
+def _key(
+    table: dict[str, dict[str, tuple[float, float]]], room_type: str, category: str, size
+) -> str:
+    """``category``'s form key at ``size`` when the counts :func:`_share` reads for it
+    (``room_type``'s, or pooled over room types when that one never held the category)
+    hold at least :data:`MIN_FORM_OBJECTS` of that form, else ``category`` (statistics
+    written before forms were counted hold none)."""
     form = None if size is None else form_key(category, size)
-    if form is not None and any(r.get(form, (0, 0))[1] > 0 for r in table.values()):
-        return form
-    return category
+    if form is None:
+        return category
+    own = table.get(room_type, {})
+    if own.get(category, (0, 0))[1] > 0:
+        n = own.get(form, (0, 0))[1]
+    else:
+        n = sum(r.get(form, (0, 0))[1] for r in table.values())
+    return form if n >= MIN_FORM_OBJECTS else category
 
 
 def _share(table: dict[str, dict[str, tuple[float, float]]], room_type: str, category: str):
