@@ -14,7 +14,7 @@ from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.registry import generate
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.curation.stats import HierarchyStats, aligned
+from pair2scene.curation.stats import HierarchyStats, aligned, parallel
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox
@@ -62,8 +62,8 @@ def test_aligned_wraps_yaws():
 def test_statistics_learn_how_and_where_dependents_stand_on_their_support():
     scenes = [_room(i, turned=i == 0) for i in range(8)]
     stats = HierarchyStats.fit(scenes)
-    n, facing, su, suu, sv, svv, sw, sww = stats.sup_geometry["television"]["tv_stand"]
-    assert (n, facing) == (8, 7)  # one of the 8 turned backwards
+    n, facing, su, suu, sv, svv, sw, sww, lying = stats.sup_geometry["television"]["tv_stand"]
+    assert (n, facing, lying) == (8, 7, 8)  # one of the 8 turned backwards: still parallel
     assert su == pytest.approx(0.0, abs=1e-9) and suu == pytest.approx(0.0, abs=1e-9)
     assert sv / n == pytest.approx(0.02 * sum(i % 3 for i in range(8)) / 8)
     assert sw / n == pytest.approx(1.0 / 1.6)  # as wide as 5/8 of the stand
@@ -261,3 +261,77 @@ def test_a_television_may_be_drawn_as_wide_as_the_training_rooms_stands_carried(
     allowed = drawn(wide)
     assert max(allowed) > 0.9 * top * 1.1 and max(allowed) <= 1.2 * top * 1.2
     assert max(drawn(wide, spots=False)) == pytest.approx(max(narrow))  # switched off
+
+
+def test_parallel_wraps_yaws_both_ways():
+    assert parallel(0.0) and parallel(np.pi) and parallel(np.radians(220)) and parallel(-3.0)
+    assert not parallel(np.pi / 2) and not parallel(np.radians(-100)) and not parallel(0.9)
+
+
+REMOTE_SIZE = (0.06, 0.2, 0.02)
+
+
+def _remotes(i: int) -> Scene:
+    """A remote control on the stand, one way or the reverse in turn (so it faces the
+    stand's way half the time), crosswise in every tenth room, along the stand anywhere."""
+    turn = np.pi / 2 if i % 10 == 9 else np.pi * (i % 2)
+    remote = _on_stand(-0.8 + 1.6 * (i % 7) / 6, 0.0, turn, size=REMOTE_SIZE)
+    return Scene(f"r{i}", ROOM, [
+        SceneObject("stand", "tv_stand", STAND, None, FLOOR),
+        SceneObject("remote", "remote_control", remote, None, "stand"),
+    ])  # fmt: skip
+
+
+def test_a_pair_lying_one_way_draws_each_object_parallel_or_crosswise():
+    stats = HierarchyStats.fit([_remotes(i) for i in range(40)])
+    rules = SpotRules.from_stats(stats)
+    rule = rules.rule("remote_control", "tv_stand")
+    assert rule.parallel == pytest.approx(36 / 40) and rule.holds_parallel
+    assert rule.aligned < ALIGNED_MIN  # facing either way: no "turned" rule
+    lies = [rules.check("remote_control", "tv_stand", STAND, s, REMOTE_SIZE).parallel
+            for s in range(2000)]  # fmt: skip
+    assert np.mean(lies) == pytest.approx(0.9, abs=0.02)
+    check = next(rules.check("remote_control", "tv_stand", STAND, s, REMOTE_SIZE)
+                 for s in range(50) if lies[s])  # fmt: skip
+    assert check.reason(_on_stand(0.2, 0.0, np.pi, REMOTE_SIZE)) is None
+    assert check.reason(_on_stand(0.2, 0.0, np.pi / 2, REMOTE_SIZE)) == "crosswise"
+    # a round object looks the same either way, and without its size none is held
+    assert rules.check("remote_control", "tv_stand", STAND, 0, (0.1, 0.1, 0.1)).parallel is None
+    assert rules.check("remote_control", "tv_stand", STAND, 0).parallel is None
+    assert not _rules(8).rule("vase", "tv_stand").holds_parallel  # too few pairs
+    # statistics written before the ninth sum load, and hold nothing
+    doc = stats.to_dict()
+    doc["sup_geometry"]["remote_control"]["tv_stand"] = doc["sup_geometry"]["remote_control"][
+        "tv_stand"][:8]  # fmt: skip
+    old = SpotRules.from_stats(HierarchyStats.from_dict(doc))
+    assert old.rule("remote_control", "tv_stand").parallel is None
+    assert old.check("remote_control", "tv_stand", STAND, 0, REMOTE_SIZE).parallel is None
+
+
+class _Crosswise(_Stand):
+    """Every candidate of the remote control lies across the stand."""
+
+    def draw(self, query, n, temperature, generator):
+        if query.category == "tv_stand":
+            return np.repeat(STAND.to_vector()[None], n, axis=0), None
+        box = _on_stand(0.0, 0.0, np.pi / 2, query.size, query.support.box)
+        return np.repeat(box.to_vector()[None], n, axis=0), None
+
+
+def test_an_object_drawn_only_the_other_way_is_still_placed():
+    rules = SpotRules.from_stats(HierarchyStats.fit([_remotes(i) for i in range(40)]))
+    h = Hierarchy("living_room")
+    stand = h.add("tv_stand", FLOOR)
+    remote = h.add("remote_control", stand.id)
+    h = h.validate()
+    assets = {stand.id: generate("tv_stand", STAND_SIZE, 1, style=0),
+              remote.id: generate("remote_control", REMOTE_SIZE, 2)}  # fmt: skip
+    size = assets[remote.id].size
+    seed = next(s for s in range(50) if rules.check(
+        "remote_control", "tv_stand", STAND, asset_seed(remote.id, s), size).parallel)  # fmt: skip
+    placer = Placer(_Crosswise(off=0), config=_config(), spots=rules)
+    result = placer.place(h, ROOM, seed=seed, assets=assets)
+    assert result.stats.placed == 2 and not result.stats.dropped
+    assert result.stats.rejections == {"crosswise": 16}  # then tried again either way
+    boxes = {o.category: o.box for o in result.scene.objects}
+    assert not parallel(boxes["remote_control"].in_frame_of(boxes["tv_stand"]).yaw)

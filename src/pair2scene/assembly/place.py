@@ -136,6 +136,10 @@ HALF_RETRIES = 32
 """Candidates rejected only for standing by the other half of their functional anchor
 (``wrong_half``) that are tried again, either half taken, when no candidate passed: the
 half is a preference the training rooms show, not a reason to leave an object out."""
+CROSS_RETRIES = 32
+"""Candidates rejected only for lying the other way across their support than drawn
+(``crosswise``, :data:`~pair2scene.assembly.anchors.PARALLEL_MIN`) that are tried again,
+either way taken, when no candidate passed: a preference, as the half is."""
 
 
 def _flag(name: str) -> str:
@@ -693,7 +697,7 @@ class Placer:
                 support = Anchor(sp.asset.category, sp.box, asset=sp.asset)
                 if cfg.spots and self.spots is not None and framed and hung_box is None:
                     spot = self.spots.check(node.category, sp.asset.category, sp.box,
-                                            asset_seed(node.id, seed))  # fmt: skip
+                                            asset_seed(node.id, seed), asset.size)  # fmt: skip
             functional = check = None
             if item.functional is not None and item.functional in placed:
                 fp = placed[item.functional]
@@ -767,6 +771,7 @@ class Placer:
             missed = 0  # candidates rejected for want of room
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             halves: list[tuple] = []  # (candidate, wall, corner) rejected only as wrong_half
+            crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
@@ -822,6 +827,8 @@ class Placer:
                             strays.append(box)
                         if reason == "wrong_half" and len(halves) < HALF_RETRIES:
                             halves.append((box, context.wall, context.corner))
+                        if reason == "crosswise" and len(crossed) < CROSS_RETRIES:
+                            crossed.append(box)
                         missed += reason in NO_ROOM
                         if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
@@ -844,6 +851,20 @@ class Placer:
                         break
                     if why == "covers" and covering is None:
                         covering = (tried, settled, True)
+                timer["collision"] += time.perf_counter() - t0
+            if accepted is None and crossed:  # none the drawn way: the other will do
+                t0 = time.perf_counter()
+                assert context.spot is not None
+                context.spot = replace(context.spot, parallel=None)
+                for box in crossed:
+                    for _, tried_box in _variants(box, context):
+                        settled, why, moved = self._settle_candidate(tried_box, context)
+                        if why is None:
+                            break
+                    if why is None:
+                        accepted = (tried, settled)
+                        stats.repaired += int(moved)
+                        break
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and halves:  # none by the drawn half: the other will do
                 t0 = time.perf_counter()

@@ -127,8 +127,9 @@ ON_TOP_M = 0.05
 ALIGNED_DEG = 45.0
 """A dependent whose yaw is within this of its support's faces the support's way
 (:attr:`HierarchyStats.sup_geometry`)."""
-SUP_SUMS = 8
-"""Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`."""
+SUP_SUMS = 9
+"""Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`
+(statistics written before the ninth, :func:`parallel`, have 8)."""
 MOUNT_SUMS = 3
 """Running sums per mounted category in :attr:`HierarchyStats.mount_height`."""
 FUNC_SUMS = 6
@@ -139,6 +140,14 @@ FUNC_SUMS = 6
 def aligned(relative_yaw: float) -> bool:
     """Whether a yaw relative to the support's (radians) faces the support's way."""
     wrapped = (relative_yaw + np.pi) % (2 * np.pi) - np.pi
+    return bool(abs(wrapped) < np.radians(ALIGNED_DEG))
+
+
+def parallel(relative_yaw: float) -> bool:
+    """Whether a yaw relative to the support's (radians) lies along the support's way or
+    its reverse, within :data:`ALIGNED_DEG`: the dependent's width parallel to the
+    support's width (a pillow across the head of its bed, either face up front)."""
+    wrapped = (relative_yaw + np.pi / 2) % np.pi - np.pi / 2
     return bool(abs(wrapped) < np.radians(ALIGNED_DEG))
 
 
@@ -322,8 +331,9 @@ class HierarchyStats:
 
     sup_geometry: dict[str, dict[str, list[float]]] = field(default_factory=dict)
     """dependent category -> support category -> [n, aligned, sum u, sum u², sum v, sum
-    v², sum w, sum w²]: how many dependents face their support's way (yaws within
-    :data:`ALIGNED_DEG`), where their centres stand on it, ``u`` along its width and ``v``
+    v², sum w, sum w², parallel]: how many dependents face their support's way (yaws within
+    :data:`ALIGNED_DEG`) and how many lie parallel to it, that way or its reverse
+    (:func:`parallel`), where their centres stand on it, ``u`` along its width and ``v``
     along its depth, both in its canonical frame (-1 to 1 edge to edge), and how wide they
     are against it, ``w`` the ratio of the long sides of their footprints: a television
     stands centred on its stand facing its way and about as wide (``w`` 1.00 on average,
@@ -428,7 +438,8 @@ class HierarchyStats:
         local = dep.box.in_frame_of(support.box)
         u, v = (float(c) for c in local.center[:2])
         w = float(max(dep.box.size[:2]) / max(max(support.box.size[:2]), 1e-6))
-        new = (1.0, float(aligned(local.yaw)), u, u * u, v, v * v, w, w * w)
+        new = (1.0, float(aligned(local.yaw)), u, u * u, v, v * v, w, w * w,
+               float(parallel(local.yaw)))  # fmt: skip
         _add_sums(self.sup_geometry, dep.category, support.category, new)
 
     def _add_present(self, placed: list[SceneObject], cat_of) -> None:
@@ -655,13 +666,13 @@ class HierarchyStats:
                                         for a, acc in pa.items()}  # fmt: skip
                 if any(len(acc) < FUNC_SUMS - 1 for acc in out.func_geometry[d].values()):
                     raise ValueError(f"func_geometry of {d}: {FUNC_SUMS} sums per anchor expected")
-            exact = (("sup_geometry", out.sup_geometry, SUP_SUMS),
-                     ("mount_height", out.mount_height, MOUNT_SUMS))  # fmt: skip
-            for name, table, length in exact:
+            exact = (("sup_geometry", out.sup_geometry, (SUP_SUMS - 1, SUP_SUMS)),
+                     ("mount_height", out.mount_height, (MOUNT_SUMS,)))  # fmt: skip
+            for name, table, lengths in exact:
                 for d, pa in doc.get(name, {}).items():
                     table[d] = {a: [float(v) for v in acc] for a, acc in pa.items()}
-                    if any(len(acc) != length for acc in table[d].values()):
-                        raise ValueError(f"{name} of {d}: {length} sums per support expected")
+                    if any(len(acc) not in lengths for acc in table[d].values()):
+                        raise ValueError(f"{name} of {d}: {lengths[-1]} sums per support expected")
             for sup, pa in doc.get("func_present", {}).items():
                 out.func_present[sup] = {
                     a: Counter({k: int(v) for k, v in d.items()}) for a, d in pa.items()
