@@ -37,6 +37,11 @@ _CORNER_SALT = 23
 """The same for the corner draw."""
 _SIDEWAYS_SALT = 29
 """The same for the sideways draw."""
+_APART_SALT = 31
+"""The same for a mounted object's draw of keeping apart from the others on its wall."""
+MIN_GAP_PAIRS = 20
+"""Neighbouring pairs on walls the statistics must have seen for the share hanging close
+together to be used."""
 CORNER_GAP_M = 0.005
 """Gap left between an object put in a corner and the second wall."""
 MIN_FORM_OBJECTS = 5
@@ -62,6 +67,10 @@ class WallRules:
     sideways: dict[str, dict[str, tuple[float, float]]] = field(default_factory=dict)
     """room type -> category -> (sideways, against a wall): how many of the objects
     against a wall had a side against it and their back against none (a sofa's arm)."""
+    close_share: float | None = None
+    """Share of neighbouring objects on one wall hanging close together
+    (:attr:`~pair2scene.curation.stats.HierarchyStats.wall_gaps`); None: not known, no
+    object kept apart."""
 
     @classmethod
     def from_stats(cls, stats: HierarchyStats) -> WallRules:
@@ -90,7 +99,9 @@ class WallRules:
                 if n < 1:
                     continue
                 distances.setdefault(dep, {})[anchor] = mean_std(n, total, squares)
-        return cls(rates, distances, corners, sideways)
+        gaps = stats.wall_gaps
+        close = gaps[1] / gaps[0] if gaps is not None and gaps[0] >= MIN_GAP_PAIRS else None
+        return cls(rates, distances, corners, sideways, close)
 
     def rate(self, room_type: str, category: str, size=None) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
@@ -127,6 +138,14 @@ class WallRules:
         it: a draw, independent of the wall and corner draws."""
         u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
         return bool(u < self.sideways_rate(room_type, category, size))
+
+    def keeps_apart(self, seed: int) -> bool:
+        """Whether a mounted object (``seed``: its asset seed) hangs at least
+        :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from the others on its wall: a
+        draw with one minus :attr:`close_share` (never when that is not known)."""
+        if self.close_share is None:
+            return False
+        return bool(np.random.default_rng([seed, _APART_SALT]).random() >= self.close_share)
 
     def distance(self, dependent: str, anchor: str) -> tuple[float, float] | None:
         """(mean, std) of ``anchor``'s distance from ``dependent``'s wall, if learned."""

@@ -38,10 +38,10 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.assets.forms import form_key
-from pair2scene.categories import SuperCategory
+from pair2scene.categories import WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
-from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall
+from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall, wall_index
 from pair2scene.scene.relations import by_back_half, faces, footprint, footprint_gap
 from pair2scene.scene.walls import AGAINST_GAP_M, against_wall, in_corner, wall_contact, walls_of
 
@@ -127,6 +127,9 @@ ON_TOP_M = 0.05
 ALIGNED_DEG = 45.0
 """A dependent whose yaw is within this of its support's faces the support's way
 (:attr:`HierarchyStats.sup_geometry`)."""
+CLOSE_WALL_M = 0.3
+"""Two neighbouring objects on one wall whose extents along it are less than this apart
+(or overlap: one above the other) hang close together (:attr:`HierarchyStats.wall_gaps`)."""
 SUP_SUMS = 9
 """Running sums per (dependent, support) pair in :attr:`HierarchyStats.sup_geometry`
 (statistics written before the ninth, :func:`parallel`, have 8)."""
@@ -149,6 +152,28 @@ def parallel(relative_yaw: float) -> bool:
     support's width (a pillow across the head of its bed, either face up front)."""
     wrapped = (relative_yaw + np.pi / 2) % np.pi - np.pi / 2
     return bool(abs(wrapped) < np.radians(ALIGNED_DEG))
+
+
+def wall_gaps(scene: Scene, placed: list[SceneObject]) -> tuple[int, int]:
+    """(pairs of neighbouring objects on one wall, of those hanging close together) in
+    ``scene``: per wall, its mounted objects (curtains and blinds left out) in order of
+    their extents along it, each with the next; close when less than
+    :data:`CLOSE_WALL_M` apart or overlapping."""
+    walls = walls_of(scene.room.floor_polygon)
+    spans: dict[int, list[tuple[float, float]]] = {}
+    for o in placed:
+        i = wall_index(o.support)
+        if i is None or not 0 <= i < len(walls) or o.category in WINDOW_DRESSINGS:
+            continue
+        x = walls[i].local(o.box.corners()[:, :2])[:, 0]
+        spans.setdefault(i, []).append((float(x.min()), float(x.max())))
+    pairs = close = 0
+    for row in spans.values():
+        row.sort()
+        for (_, hi), (lo, _) in zip(row, row[1:]):
+            pairs += 1
+            close += int(lo - hi < CLOSE_WALL_M)
+    return pairs, close
 
 
 def floor_shape(room: Room) -> tuple[float, ...]:
@@ -346,6 +371,12 @@ class HierarchyStats:
     paper hanger at 0.89 m (0.11) in the training rooms. Empty in statistics written
     before it was kept (then mounted objects hang at any height the model draws)."""
 
+    wall_gaps: list[int] | None = field(default_factory=lambda: [0, 0])
+    """[pairs of neighbouring objects on one wall, of those hanging close together]
+    (within :data:`CLOSE_WALL_M` along the wall, or one above the other), curtains and
+    blinds left out: 0.28 of the training living rooms' pairs, their median gap 0.87 m.
+    None in statistics written before it was kept."""
+
     # -- fitting ------------------------------------------------------------------
     @classmethod
     def fit(cls, scenes: Iterable[Scene]) -> HierarchyStats:
@@ -388,6 +419,10 @@ class HierarchyStats:
                 per_support.setdefault(func, Counter())[o.category] += 1
                 self._add_geometry(o, by_id[o.functional_anchor])
         self._add_present(placed, cat_of)
+        if self.wall_gaps is not None:
+            pairs, close = wall_gaps(scene, placed)
+            self.wall_gaps[0] += pairs
+            self.wall_gaps[1] += close
         room.rooms += 1
         layout = tuple(sorted(m for m in map(template_member, placed) if m is not None))
         room.layouts[layout] += 1
@@ -492,6 +527,10 @@ class HierarchyStats:
                 out.on_top = None
             else:
                 out.on_top.update(p.on_top)
+            if p.wall_gaps is None or out.wall_gaps is None:
+                out.wall_gaps = None
+            else:
+                out.wall_gaps = [a + b for a, b in zip(out.wall_gaps, p.wall_gaps)]
         return out
 
     def top_kept_free(self, min_dependents: int = 20, max_share: float = 0.02) -> frozenset:
@@ -610,6 +649,7 @@ class HierarchyStats:
                 for s, pa in sorted(self.func_present.items())
             },
             **({} if self.on_top is None else {"on_top": counts(self.on_top)}),
+            **({} if self.wall_gaps is None else {"wall_gaps": list(self.wall_gaps)}),
         }
 
     def to_json(self) -> str:
@@ -684,6 +724,13 @@ class HierarchyStats:
                 out.same_model[cat] = [n, same]
             top = doc.get("on_top")
             out.on_top = None if top is None else Counter({k: int(v) for k, v in top.items()})
+            gaps = doc.get("wall_gaps")
+            out.wall_gaps = None
+            if gaps is not None:
+                pairs, close = (int(v) for v in gaps)
+                if not 0 <= close <= pairs:
+                    raise ValueError(f"wall_gaps: {close} close of {pairs} pairs")
+                out.wall_gaps = [pairs, close]
         except (KeyError, TypeError, ValueError, AttributeError) as e:
             raise UserError(f"{where}: malformed statistics ({type(e).__name__}: {e})") from None
         return out
