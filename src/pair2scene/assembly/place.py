@@ -141,6 +141,10 @@ CROSS_RETRIES = 32
 """Candidates rejected only for lying the other way across their support than drawn
 (``crosswise``, :data:`~pair2scene.assembly.anchors.PARALLEL_MIN`) that are tried again,
 either way taken, when no candidate passed: a preference, as the half is."""
+CROWD_RETRIES = 32
+"""Candidates of a mounted object rejected only for hanging close to another on its wall
+(``crowded``, :attr:`AssemblyConfig.wall_spacing`) that are tried again, close allowed,
+when no candidate passed."""
 
 
 def _flag(name: str) -> str:
@@ -846,7 +850,7 @@ class Placer:
                             halves.append((box, context.wall, context.corner))
                         if reason == "crosswise" and len(crossed) < CROSS_RETRIES:
                             crossed.append(box)
-                        if reason == "crowded" and len(crowded) < CROSS_RETRIES:
+                        if reason == "crowded" and len(crowded) < CROWD_RETRIES:
                             crowded.append((box, context.mount))
                         missed += reason in NO_ROOM
                         if missed >= give_up:
