@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pair2scene.assembly.mounting import hang
-from pair2scene.assembly.place import AssemblyConfig, Placer, crowds
+from pair2scene.assembly.mounting import crowds, hang
+from pair2scene.assembly.place import AssemblyConfig, Placer
 from pair2scene.assembly.walls import WallRules
 from pair2scene.curation.stats import CLOSE_WALL_M, HierarchyStats, wall_gaps
 from pair2scene.errors import UserError
@@ -41,7 +41,7 @@ def _room(i: int) -> Scene:
 
 def test_statistics_count_neighbouring_pairs_and_the_close_ones():
     scene = _room(0)
-    assert wall_gaps(scene, scene.objects) == (2, 1)  # p0-p1 close, p1-p2 1.0 m apart
+    assert wall_gaps(WALLS, scene.objects) == (2, 1)  # p0-p1 close, p1-p2 1.0 m apart
     stats = HierarchyStats.fit([_room(i) for i in range(10)])
     assert stats.wall_gaps == [20, 10]
     back = HierarchyStats.from_json(stats.to_json())

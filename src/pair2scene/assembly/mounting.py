@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pair2scene.assembly.walls import faced_by, weighted_keys
-from pair2scene.curation.stats import HierarchyStats, mean_std
+from pair2scene.curation.stats import CLOSE_WALL_M, HierarchyStats, mean_std
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import WALL, Opening, Room
 from pair2scene.scene.walls import AGAINST_GAP_M, Wall, wall_contact
@@ -185,8 +185,7 @@ def hang_over(box: OrientedBox, wall: Wall, anchor: OrientedBox) -> OrientedBox:
     the wall (centred on the anchor when it is wider), and within the wall; its height as
     drawn."""
     size = np.asarray(box.size, float)
-    along = wall.local(anchor.corners()[:, :2])[:, 0]
-    lo, hi = float(along.min()), float(along.max())
+    lo, hi = wall.extent(anchor)
     slack = max((hi - lo) / 2 - size[0] / 2, 0.0)
     mid = (lo + hi) / 2
     at = float(np.clip(wall.local(box.center[:2])[0], mid - slack, mid + slack))
@@ -287,6 +286,19 @@ def covered_shares(
     return np.where(near & (hi > lo) & (top > bottom), (hi - lo) * (top - bottom) / face, 0.0)
 
 
+def crowds(box: OrientedBox, wall: Wall, shown: list[tuple[str, OrientedBox, Wall]]) -> bool:
+    """Whether mounted ``box`` on ``wall`` comes within :data:`CLOSE_WALL_M` along the wall
+    of another object hung on it (``shown``: (id, box, wall) of the mounted objects
+    placed), or overlaps one along it (one above the other)."""
+    lo, hi = wall.extent(box)
+    for _, other, on in shown:
+        if on.index == wall.index:
+            a, b = wall.extent(other)
+            if max(a - hi, lo - b) < CLOSE_WALL_M:
+                return True
+    return False
+
+
 def mount_blocked(
     box: OrientedBox, wall: Wall, room: Room, dressing: bool, floor_boxes: list[OrientedBox]
 ) -> str | None:
@@ -296,8 +308,7 @@ def mount_blocked(
     furniture standing against the wall and reaching above its bottom. Curtains and
     blinds (``dressing``) are excepted from the last two: they hang at a window and down
     behind what stands below it."""
-    corners = wall.local(box.corners()[:, :2])
-    lo, hi = float(corners[:, 0].min()), float(corners[:, 0].max())
+    lo, hi = wall.extent(box)
     if lo < -wall.length / 2 - 1e-6 or hi > wall.length / 2 + 1e-6:
         return "off_wall"
     bottom, top = box.bottom, box.top

@@ -56,6 +56,7 @@ from pair2scene.assembly.mounting import (
     MountHeights,
     covered_share,
     covered_shares,
+    crowds,
     dress_window,
     fitted_dressing,
     hang_over,
@@ -88,7 +89,6 @@ from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.categories import WINDOW_DRESSINGS
-from pair2scene.curation.stats import CLOSE_WALL_M
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
@@ -792,7 +792,7 @@ class Placer:
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             halves: list[tuple] = []  # (candidate, wall, corner) rejected only as wrong_half
             crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
-            crowded: list[tuple] = []  # (candidate, wall) rejected only as crowded
+            crowded: list[tuple] = []  # (candidate, wall, across) rejected only as crowded
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
@@ -851,7 +851,7 @@ class Placer:
                         if reason == "crosswise" and len(crossed) < CROSS_RETRIES:
                             crossed.append(box)
                         if reason == "crowded" and len(crowded) < CROWD_RETRIES:
-                            crowded.append((box, context.mount))
+                            crowded.append((box, context.mount, context.across))
                         missed += reason in NO_ROOM
                         if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
@@ -879,32 +879,18 @@ class Placer:
                 t0 = time.perf_counter()
                 assert context.spot is not None
                 context.spot = replace(context.spot, parallel=None)
-                for box in crossed:
-                    for _, tried_box in _variants(box, context):
-                        settled, why, moved = self._settle_candidate(tried_box, context)
-                        if why is None:
-                            break
-                    if why is None:
-                        accepted = (tried, settled)
-                        stats.repaired += int(moved)
-                        break
+                accepted = self._retried(crossed, context, tried, stats)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and crowded:  # none apart from the others: close will do
                 t0 = time.perf_counter()
                 context.apart = None
-                for box, wall in crowded:
-                    context.mount = wall
-                    context.across = None  # (as the queries set it: only a wall it faces)
-                    if hung_across is not None and faced_by(wall, hung_across):
-                        context.across = hung_across
-                    settled, why, moved = self._settle_candidate(box, context)
-                    if why is None:
-                        accepted = (tried, settled)
-                        break
+                accepted = self._retried(crowded, context, tried, stats, _as_hung)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and halves:  # none by the drawn half: the other will do
                 t0 = time.perf_counter()
-                accepted = self._either_half(halves, context, tried, stats)
+                assert context.anchor is not None
+                context.anchor = replace(context.anchor, half=0)
+                accepted = self._retried(halves, context, tried, stats, _as_drawn)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and covering is not None:  # better than not there at all
                 index, settled, moved = covering
@@ -1086,16 +1072,17 @@ class Placer:
             box, moved = OrientedBox(center, rested.size, rested.rotation), True
         return None, "collision", moved  # unreachable: the loop returns
 
-    def _either_half(
-        self, halves: list[tuple], ctx: _Context, tried: int, stats: AssemblyStats
+    def _retried(
+        self, candidates: list, ctx: _Context, tried: int, stats: AssemblyStats, place=None
     ) -> tuple[int, OrientedBox] | None:
-        """(index, box) of the first of ``halves`` (candidates rejected only as
-        ``wrong_half``, with the wall and corner they were drawn at) that passes with
-        either half of the anchor taken, or None."""
-        assert ctx.anchor is not None
-        ctx.anchor = replace(ctx.anchor, half=0)
-        for box, wall, corner in halves:
-            ctx.wall, ctx.corner = wall, corner
+        """(index, box) of the first of ``candidates`` (drawn ones rejected only for a
+        preference the caller has since lifted from ``ctx``: the drawn half of the anchor,
+        the drawn way across the support, keeping apart on the wall) that passes, each
+        tried through its :func:`_variants`, or None. ``place(candidate, ctx)`` sets
+        ``ctx`` as the candidate was drawn (:func:`_as_drawn`, :func:`_as_hung`) and gives
+        its box."""
+        for candidate in candidates:
+            box = candidate if place is None else place(candidate, ctx)
             for _, tried_box in _variants(box, ctx):
                 settled, why, moved = self._settle_candidate(tried_box, ctx)
                 if why is None:
@@ -1109,8 +1096,8 @@ class Placer:
         """A mounted object's candidate hung on its wall (:func:`mount`; curtains as
         :func:`dress_window` put them) and why it cannot stay: ``too_large`` for the wall,
         ``off_height``, ``not_in_front``, :func:`mount_blocked`'s reasons, ``hidden``,
-        ``crowded`` (:func:`crowds`, when kept apart), ``collision`` (never pushed: it must
-        stay on the wall where it was drawn)."""
+        ``crowded`` (:func:`~pair2scene.assembly.mounting.crowds`, when kept apart),
+        ``collision`` (never pushed: it must stay on the wall where it was drawn)."""
         cfg = self.config
         dressing = ctx.dressing is not None
         hung = box if dressing else mount(box, ctx.mount, ctx.room.height, cfg.ceiling_margin_m)
@@ -1227,25 +1214,18 @@ class Placer:
         return None, []
 
 
-def crowds(box: OrientedBox, wall: Wall, shown: list[tuple[str, OrientedBox, Wall]]) -> bool:
-    """Whether mounted ``box`` on ``wall`` comes within
-    :data:`~pair2scene.curation.stats.CLOSE_WALL_M` along the wall of another object hung
-    on it (``shown``: (id, box, wall) of the mounted objects placed), or overlaps one
-    along it (one above the other)."""
-    lo, hi = _along(box, wall)
-    for _, other, on in shown:
-        if on.index != wall.index:
-            continue
-        a, b = _along(other, wall)
-        if max(a - hi, lo - b) < CLOSE_WALL_M:
-            return True
-    return False
+def _as_drawn(item: tuple, ctx: _Context) -> OrientedBox:
+    """A floor candidate (box, wall, corner) kept for a retry, ``ctx`` set to the wall and
+    corner it was drawn at."""
+    box, ctx.wall, ctx.corner = item
+    return box
 
 
-def _along(box: OrientedBox, wall: Wall) -> tuple[float, float]:
-    """``box``'s extent along ``wall`` (from its midpoint, m)."""
-    x = wall.local(box.corners()[:, :2])[:, 0]
-    return float(x.min()), float(x.max())
+def _as_hung(item: tuple, ctx: _Context) -> OrientedBox:
+    """A mounted candidate (box, wall, across) kept for a retry, ``ctx`` set to the wall
+    it was drawn on and what it hangs across from there."""
+    box, ctx.mount, ctx.across = item
+    return box
 
 
 def floor_region(room: Room, size: np.ndarray, reach: float) -> OrientedBox:

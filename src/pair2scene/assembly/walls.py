@@ -249,8 +249,7 @@ def to_corners(
     :func:`~pair2scene.scene.walls.convex_ends`), ``gap`` short of the other wall, the
     nearer corner first, as (0 for the start or 1 for the end, box); none when neither
     end is a corner or the box is longer than the wall."""
-    along = wall.local(box.corners()[:, :2])[:, 0]
-    lo, hi = float(along.min()), float(along.max())
+    lo, hi = wall.extent(box)
     half = wall.length / 2
     if hi - lo > wall.length:
         return []

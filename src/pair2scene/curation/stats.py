@@ -43,7 +43,14 @@ from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall, wall_index
 from pair2scene.scene.relations import by_back_half, faces, footprint, footprint_gap
-from pair2scene.scene.walls import AGAINST_GAP_M, against_wall, in_corner, wall_contact, walls_of
+from pair2scene.scene.walls import (
+    AGAINST_GAP_M,
+    Wall,
+    against_wall,
+    in_corner,
+    wall_contact,
+    walls_of,
+)
 
 STATS_FORMAT = "pair2scene.hierarchy_stats"
 STATS_VERSION = 1
@@ -154,19 +161,17 @@ def parallel(relative_yaw: float) -> bool:
     return bool(abs(wrapped) < np.radians(ALIGNED_DEG))
 
 
-def wall_gaps(scene: Scene, placed: list[SceneObject]) -> tuple[int, int]:
-    """(pairs of neighbouring objects on one wall, of those hanging close together) in
-    ``scene``: per wall, its mounted objects (curtains and blinds left out) in order of
-    their extents along it, each with the next; close when less than
-    :data:`CLOSE_WALL_M` apart or overlapping."""
-    walls = walls_of(scene.room.floor_polygon)
+def wall_gaps(walls: list[Wall], placed: list[SceneObject]) -> tuple[int, int]:
+    """(pairs of neighbouring objects on one wall, of those hanging close together) among
+    ``placed`` on a room's ``walls``: per wall, its mounted objects (curtains and blinds
+    left out) in order of their extents along it, each with the next; close when less
+    than :data:`CLOSE_WALL_M` apart or overlapping."""
     spans: dict[int, list[tuple[float, float]]] = {}
     for o in placed:
         i = wall_index(o.support)
         if i is None or not 0 <= i < len(walls) or o.category in WINDOW_DRESSINGS:
             continue
-        x = walls[i].local(o.box.corners()[:, :2])[:, 0]
-        spans.setdefault(i, []).append((float(x.min()), float(x.max())))
+        spans.setdefault(i, []).append(walls[i].extent(o.box))
     pairs = close = 0
     for row in spans.values():
         row.sort()
@@ -419,8 +424,9 @@ class HierarchyStats:
                 per_support.setdefault(func, Counter())[o.category] += 1
                 self._add_geometry(o, by_id[o.functional_anchor])
         self._add_present(placed, cat_of)
+        walls = walls_of(scene.room.floor_polygon)
         if self.wall_gaps is not None:
-            pairs, close = wall_gaps(scene, placed)
+            pairs, close = wall_gaps(walls, placed)
             self.wall_gaps[0] += pairs
             self.wall_gaps[1] += close
         room.rooms += 1
@@ -442,7 +448,6 @@ class HierarchyStats:
                 acc = self.same_model.setdefault(cat, [0, 0])
                 acc[0] += 1
                 acc[1] += int(len(set(ids)) == 1)
-        walls = walls_of(scene.room.floor_polygon)
         for o in placed:
             if o.support != FLOOR:
                 continue

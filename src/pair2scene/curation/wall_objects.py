@@ -117,8 +117,8 @@ def _below(obj: SceneObject, wall: Wall, floor: list[SceneObject], walls: list[W
         contact = wall_contact(f.box, walls, AGAINST_GAP_M)
         if contact is None or contact.wall != wall.index:
             continue
-        ext = wall.local(f.box.corners()[:, :2])[:, 0]
-        if not ext.min() <= along <= ext.max():
+        lo, hi = wall.extent(f.box)
+        if not lo <= along <= hi:
             continue
         if f.box.top > obj.box.bottom + BELOW_MARGIN_M:
             continue

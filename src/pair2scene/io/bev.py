@@ -77,9 +77,9 @@ def wall_marks(scene: Scene) -> list[WallMark]:
         wall = _mark_wall(o, walls)
         if wall is None:
             continue
-        along = wall.local(o.box.corners()[:, :2])[:, 0]
         half = wall.length / 2
-        lo, hi = max(float(along.min()), -half), min(float(along.max()), half)
+        lo, hi = wall.extent(o.box)
+        lo, hi = max(lo, -half), min(hi, half)
         if hi > lo:
             out.append(WallMark(o.id, o.category, wall, lo, hi))
     out.sort(key=lambda m: (-(m.hi - m.lo), m.object_id))

@@ -52,8 +52,7 @@ def is_wall_object(o: SceneObject, walls: list[Wall]) -> bool:
 def covers_opening(o: SceneObject, wall: Wall, room: Room) -> bool:
     """Whether ``o``, hung on ``wall``, covers a door or (unless it is curtains or
     blinds) a window of it: overlapping it along the wall and in height."""
-    along = wall.local(o.box.corners()[:, :2])[:, 0]
-    lo, hi = float(along.min()), float(along.max())
+    lo, hi = wall.extent(o.box)
     openings = [*room.doors, *(() if o.category in WINDOW_DRESSINGS else room.windows)]
     return any(
         hi > a and lo < b and o.box.bottom < z_max and o.box.top > z_min

@@ -94,6 +94,11 @@ class Wall:
         rel = np.asarray(points, float) - self.midpoint
         return np.stack([rel @ self.direction, rel @ self.normal], axis=-1)
 
+    def extent(self, box: OrientedBox) -> tuple[float, float]:
+        """(lo, hi) along the wall, from its midpoint, that ``box``'s footprint covers."""
+        along = self.local(box.corners()[:, :2])[:, 0]
+        return float(along.min()), float(along.max())
+
     def span(self, p0, p1, tol: float = 0.05) -> tuple[float, float] | None:
         """(lo, hi) along the wall, from its midpoint, that the segment ``p0``-``p1`` (a
         door, a window) covers when it lies on the wall (both ends within ``tol`` m of
