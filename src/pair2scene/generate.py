@@ -349,14 +349,23 @@ def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -
 
 
 def set_threads(threads: int | None = None) -> None:
-    """Torch's CPU threads, when torch is loaded: ``threads``, or one. Generation itself
-    needs no torch, and the layout model's forward passes always run numpy's BLAS on one
-    thread (:func:`pair2scene.model.api.one_blas_thread`), so that a scene's bytes do not
-    depend on the thread count or the machine's cores: they are a handful of small
-    matrices, where a second thread gains nothing on an idle machine and costs a lot on a
-    busy one. Parallelism comes from processes: run several generate jobs side by side."""
+    """The process's CPU threads: ``threads``, or one, for numpy's BLAS (every BLAS
+    library loaded, numpy's and scipy's: threadpoolctl) and torch's, when torch is loaded.
+
+    Generation itself needs no torch, and the layout model's forward passes always run
+    numpy's BLAS on one thread (:func:`pair2scene.model.api.one_blas_thread`), so that a
+    scene's bytes do not depend on the thread count or the machine's cores: they are a
+    handful of small matrices, where a second thread gains nothing on an idle machine and
+    costs a lot on a busy one. The rest of a scene's products (asset meshes, point clouds,
+    collision) are as small; left at a BLAS's default of one thread a core, each library's
+    worker threads spin between them, and two generating processes on two cores made 1.70x
+    the scenes of one instead of 1.92x (docs/benchmarks.md). Parallelism comes from
+    processes: run several generate jobs side by side."""
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")
+    from threadpoolctl import ThreadpoolController
+
+    ThreadpoolController().limit(limits=threads or 1, user_api="blas")
     torch = sys.modules.get("torch")
     if torch is not None:
         torch.set_num_threads(threads or 1)

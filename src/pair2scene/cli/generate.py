@@ -96,9 +96,10 @@ def generate_command(
     threads: Annotated[
         int | None,
         typer.Option(
-            help=f"CPU threads of torch where it is loaded, 1 .. {MAX_THREADS} (default 1). "
-            "The layout model runs without torch, on one thread, so that a scene's bytes do "
-            "not depend on the cores: run processes side by side for more scenes."
+            help=f"CPU threads of numpy's BLAS, and of torch where it is loaded, 1 .. "
+            f"{MAX_THREADS} (default 1). The layout model runs without torch, on one thread "
+            "whatever this says, so that a scene's bytes do not depend on the cores: run "
+            "processes side by side for more scenes."
         ),
     ] = None,
     formats: Annotated[
