@@ -128,9 +128,16 @@ def _sat_overlap(ca, ha, ra, cb, hb, rb) -> np.ndarray:
     k = len(ca)
     axes_a = ra.transpose(0, 2, 1)  # rows: a's axes
     axes_b = rb.transpose(0, 2, 1)
-    cross = np.cross(axes_a[:, :, None, :], axes_b[:, None, :, :]).reshape(k, 9, 3)
-    axes = np.concatenate([axes_a, axes_b, cross], axis=1)  # (K, 15, 3)
-    norm = np.linalg.norm(axes, axis=-1)
+    axes = np.empty((k, 15, 3))
+    axes[:, :3], axes[:, 3:6] = axes_a, axes_b
+    # a's axis i x b's axis j at row 6 + 3 i + j: np.cross's products and differences,
+    # without its checks and axis moves (a third of this test's time)
+    x = axes[:, 6:].reshape(k, 3, 3, 3)
+    a, b = axes_a[:, :, None, :], axes_b[:, None, :, :]
+    for c, (i, j) in enumerate(((1, 2), (2, 0), (0, 1))):
+        np.multiply(a[..., i], b[..., j], out=x[..., c])
+        x[..., c] -= a[..., j] * b[..., i]
+    norm = np.sqrt(np.add.reduce(axes * axes, axis=-1))  # np.linalg.norm's sums
     valid = norm > 1e-9
     axes = axes / np.where(valid, norm, 1.0)[..., None]
     d = cb - ca  # (K, 3)
