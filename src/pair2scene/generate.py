@@ -32,6 +32,7 @@ import numpy as np
 from pair2scene.assembly.anchors import AnchorRules, SpotRules
 from pair2scene.assembly.keep import Kept, load_keep, merge_keep
 from pair2scene.assembly.mounting import MountHeights
+from pair2scene.assembly.overlaps import FloorOverlaps
 from pair2scene.assembly.place import AssemblyConfig, AssemblyStats, Placer
 from pair2scene.assembly.records import Dropped
 from pair2scene.assembly.rooms import RoomTable, make_room
@@ -181,6 +182,7 @@ class Pair2Scene:
                              spots=SpotRules.from_stats(self.stats),
                              same_model=self.stats.same_model_shares(),
                              heights=MountHeights.from_stats(self.stats),
+                             overlaps=FloorOverlaps.from_stats(self.stats),
                              top_free=self.stats.top_kept_free(
                                  max_share=self.config.assembly.top_free_share))  # fmt: skip
 

@@ -80,8 +80,10 @@ def footprint(box: OrientedBox, contact: np.ndarray | None = None) -> np.ndarray
     if contact is None:
         h = box.half_size
         contact = _rectangle(-h[:2], h[:2])
-    corners = box.center[:2] + contact @ box.rotation[:2, :2].T
-    return np.vstack([box.center[None, :2], corners])
+    out = np.empty((5, 2))
+    out[0] = box.center[:2]
+    np.add(box.center[:2], contact @ box.rotation[:2, :2].T, out=out[1:])
+    return out
 
 
 def _carried(surface, local: np.ndarray, rules: RestRules) -> bool:
@@ -163,7 +165,8 @@ def into_room(
     lo, hi = poly.min(0), poly.max(0)
     corners = footprint(box)[1:]
     shift = np.zeros(2)
-    if not on_floor(box, poly):
+    inside = on_floor(box, poly)
+    if not inside:
         moved = _shift_into(corners, lo, hi)
         if moved is None or np.linalg.norm(moved) > max_shift:
             return None
@@ -177,7 +180,7 @@ def into_room(
             elif 0 < near_hi <= snap:
                 shift[axis] += near_hi
     if not shift.any():  # (inside the bounds is not inside an L-shaped floor)
-        return box if on_floor(box, poly) else None
+        return box if inside else None
     center = box.center.copy()
     center[:2] += shift
     moved_box = OrientedBox(center, box.size, box.rotation)

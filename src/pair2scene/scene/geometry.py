@@ -125,6 +125,18 @@ UNIT_CORNERS = np.array(
 )  # fmt: skip
 
 
+def _frozen(value, shape: tuple[int, ...]) -> bool:
+    """Whether ``value`` is an array a box may keep as it is: float64 of ``shape``, owning
+    its data and read-only (what :class:`OrientedBox` makes of its inputs)."""
+    return (
+        isinstance(value, np.ndarray)
+        and value.base is None
+        and not value.flags.writeable
+        and value.dtype == np.float64
+        and value.shape == shape
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class OrientedBox:
     """A box in the world: centre (3,), full size along local x/y/z (3,), rotation (3, 3).
@@ -138,7 +150,10 @@ class OrientedBox:
 
     def __post_init__(self) -> None:
         for name, shape in (("center", (3,)), ("size", (3,)), ("rotation", (3, 3))):
-            arr = np.array(getattr(self, name), dtype=float)
+            value = getattr(self, name)
+            if _frozen(value, shape):
+                continue  # another box's array (placement makes thousands a second)
+            arr = np.array(value, dtype=float)
             if arr.shape != shape:
                 raise ValueError(f"OrientedBox.{name} must have shape {shape}, got {arr.shape}")
             arr.setflags(write=False)
@@ -246,6 +261,35 @@ def corner_distance(a: ArrayLike, b: ArrayLike) -> float:
     """
     d = np.linalg.norm(np.asarray(a)[:, None, :] - np.asarray(b)[None, :, :], axis=-1)
     return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+
+
+def convex_overlap_area(a: ArrayLike, b: ArrayLike) -> float:
+    """Area of the intersection of two convex counter-clockwise polygons (K, 2) and
+    (M, 2): ``a`` clipped by each edge of ``b`` in turn (Sutherland-Hodgman), then the
+    shoelace formula. In Python's floats: two footprints of four corners each, tested
+    for every floor candidate, where numpy's per-call cost would be most of the time."""
+    out = [(float(x), float(y)) for x, y in np.asarray(a, dtype=float).tolist()]
+    clip = np.asarray(b, dtype=float).tolist()
+    for (x0, y0), (x1, y1) in zip(clip, clip[1:] + clip[:1]):
+        if len(out) < 3:
+            return 0.0
+        ex, ey = x1 - x0, y1 - y0
+        kept = []
+        prev = out[-1]
+        s_prev = ex * (prev[1] - y0) - ey * (prev[0] - x0)  # >= 0: left of the edge, inside
+        for cur in out:
+            s_cur = ex * (cur[1] - y0) - ey * (cur[0] - x0)
+            if (s_cur >= 0) != (s_prev >= 0):  # the edge's line crosses prev -> cur
+                t = s_prev / (s_prev - s_cur)
+                kept.append((prev[0] + t * (cur[0] - prev[0]), prev[1] + t * (cur[1] - prev[1])))
+            if s_cur >= 0:
+                kept.append(cur)
+            prev, s_prev = cur, s_cur
+        out = kept
+    if len(out) < 3:
+        return 0.0
+    twice = sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(out, out[1:] + out[:1]))
+    return max(0.5 * twice, 0.0)
 
 
 def polygon_area(polygon: ArrayLike) -> float:
