@@ -313,6 +313,28 @@ def _near_parts(a: Shape, b: Shape) -> tuple[np.ndarray, np.ndarray]:
     return np.nonzero(near)
 
 
+def face_axis_depth(a: Shape, i: int, b: Shape, j: int) -> float:
+    """The least overlap of part ``i`` of ``a`` and part ``j`` of ``b`` (posed; each as its
+    convex hull, as fcl takes it) along the face normals of both: moving one that far
+    along that normal separates them, so their penetration depth is at most this. 0 when
+    one of the normals separates them."""
+    parts = []
+    for shape, k in ((a, i), (b, j)):
+        mesh = shape.asset.parts[k].mesh
+        world = mesh.vertices @ shape.rotation.T + shape.translation
+        tri = world[mesh.faces]
+        normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        length = np.sqrt(np.add.reduce(normals * normals, axis=-1))
+        parts.append((world, normals[length > 1e-12] / length[length > 1e-12, None]))
+    (wa, na), (wb, nb) = parts
+    axes = np.concatenate([na, nb])
+    if not len(axes):
+        return np.inf
+    pa, pb = wa @ axes.T, wb @ axes.T
+    overlap = np.minimum(pa.max(0), pb.max(0)) - np.maximum(pa.min(0), pb.min(0))
+    return max(float(overlap.min()), 0.0)
+
+
 class MeshWorld:
     """Placed objects as persistent fcl objects, queried by candidate shapes."""
 
@@ -330,8 +352,17 @@ class MeshWorld:
         self.shapes.pop(object_id, None)
         self._recent = (None, None, {})
 
-    def penetration(self, a: Shape, b: Shape) -> float:
-        """Deepest penetration (m) between two posed shapes; 0 when apart."""
+    def penetration(self, a: Shape, b: Shape, tight: bool = False) -> float:
+        """Deepest penetration (m) between two posed shapes; 0 when apart.
+
+        ``tight``: each colliding part pair's depth is also bounded by
+        :func:`face_axis_depth`. fcl's EPA returns the depth along the direction it
+        converged to, which on thin parts may not be the shortest way out: a pen's clip
+        on a plate's rim (a ``beyond`` living room) read 1.8 mm or 9.7 mm as the plate's
+        size moved by 5e-7 m, in about equal shares, while a move of 1.8 mm along a face
+        normal separates them. Both are upper bounds of the true depth, so the smaller
+        is too. The evaluation measures with it; placement keeps the plain depth (it
+        only makes placement stricter)."""
         fcl = _fcl()
         request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=True)
         deepest = 0.0
@@ -339,6 +370,8 @@ class MeshWorld:
             result = fcl.CollisionResult()
             if fcl.collide(a.objects[i], b.objects[j], request, result):
                 depth = max((c.penetration_depth for c in result.contacts), default=0.0)
+                if tight and depth > deepest:
+                    depth = min(depth, face_axis_depth(a, i, b, j))
                 deepest = max(deepest, depth)
         return deepest
 

@@ -1204,8 +1204,10 @@ class Placer:
         "off_wall": no longer against the wall it was drawn against, "side_to_wall": a
         side, not its back, against it when the wall rules did not turn it sideways
         (:meth:`_sideways`; the data's share of sideways objects is drawn there, not left
-        to the model's yaw), "door", "collision",
-        "blocks_path") and what it hits (the doors' indices, the objects' ids)."""
+        to the model's yaw), "door", "overlap" (over or under another floor object's
+        footprint, :attr:`AssemblyConfig.separate_footprints`: tested before the meshes,
+        a cheaper test whose push clears the meshes too), "collision", "blocks_path") and
+        what it hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
         if ctx.spot is not None:
@@ -1227,6 +1229,10 @@ class Placer:
             doors = ctx.doors[1].overlaps(center, half, rot)[0]
             if doors.any():
                 return "door", list(np.flatnonzero(doors))
+        if ctx.floor is not None:
+            under = ctx.floor.hits(box)
+            if under:
+                return "overlap", under  # over or under another floor object's footprint
         hits = ctx.others.overlaps(center, half, rot)[0]
         near = [ctx.ids[j] for j in np.flatnonzero(hits)]
         if near:
@@ -1234,10 +1240,6 @@ class Placer:
             colliding = ctx.world.colliding(ctx.shape, near)
             if colliding:
                 return "collision", colliding
-        if ctx.floor is not None:
-            under = ctx.floor.hits(box)
-            if under:
-                return "overlap", under  # over or under another floor object's footprint
         if ctx.support == FLOOR and ctx.guard is not None and ctx.guard.blocks(box):
             return "blocks_path", []  # only candidates that passed the rest
         for oid, face, wall in ctx.shown:  # last: one that only covers may still stand

@@ -87,7 +87,7 @@ def intersecting(
     for i, j in itertools.combinations(range(len(objs)), 2):
         if not near[i, j]:
             continue
-        d = world.penetration(shapes[objs[i].id], shapes[objs[j].id])
+        d = world.penetration(shapes[objs[i].id], shapes[objs[j].id], tight=True)
         if d > depth:
             for a, b in ((objs[i].id, objs[j].id), (objs[j].id, objs[i].id)):
                 if d > out.get(a, ("", 0.0))[1]:
