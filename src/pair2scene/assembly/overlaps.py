@@ -63,17 +63,18 @@ class FloorOverlaps:
     def check(self, category: str, placed: list[tuple[str, str, OrientedBox]]) -> FloorCheck:
         """The test of one floor object of ``category`` against the ``placed`` floor
         objects ((id, category, box)) it may not overlap."""
-        kept = [(oid, box) for oid, cat, box in placed if not self.allows(category, cat)]
-        return FloorCheck([(oid, box, footprint(box)) for oid, box in kept])
+        return FloorCheck(
+            [(oid, footprint(box)) for oid, cat, box in placed if not self.allows(category, cat)]
+        )
 
 
 @dataclass
 class FloorCheck:
-    """One floor object's test: the placed floor objects (id, box, footprint) whose
-    footprint it may not overlap by more than :data:`FLOOR_OVERLAP_SHARE` of the smaller
-    one's area."""
+    """One floor object's test: the placed floor objects (id, footprint) whose footprint
+    it may not overlap by more than :data:`FLOOR_OVERLAP_SHARE` of the smaller one's
+    area."""
 
-    others: list[tuple[str, OrientedBox, np.ndarray]]
+    others: list[tuple[str, np.ndarray]]
 
     def hits(self, box: OrientedBox) -> list[str]:
         """The ids of the objects ``box``'s footprint overlaps so."""
@@ -82,7 +83,7 @@ class FloorCheck:
         mine = footprint(box)
         lo, hi = mine.min(0), mine.max(0)
         out = []
-        for oid, _, theirs in self.others:
+        for oid, theirs in self.others:
             if (theirs.min(0) > hi).any() or (theirs.max(0) < lo).any():
                 continue  # their bounds are apart
             if footprint_overlap(mine, theirs) > FLOOR_OVERLAP_SHARE:
