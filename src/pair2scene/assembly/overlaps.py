@@ -24,9 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from pair2scene.curation.stats import (
-    FLOOR_OVERLAP_SHARE,
     HierarchyStats,
-    footprint_overlap,
+    one_over_other,
     overlap_key,
 )
 from pair2scene.scene.geometry import OrientedBox
@@ -71,7 +70,8 @@ class FloorOverlaps:
 @dataclass
 class FloorCheck:
     """One floor object's test: the placed floor objects (id, footprint) whose footprint
-    it may not overlap by more than :data:`FLOOR_OVERLAP_SHARE` of the smaller one's
+    it may not overlap by more than
+    :data:`~pair2scene.curation.stats.FLOOR_OVERLAP_SHARE` of the smaller one's
     area."""
 
     others: list[tuple[str, np.ndarray]]
@@ -81,11 +81,4 @@ class FloorCheck:
         if not self.others:
             return []
         mine = footprint(box)
-        lo, hi = mine.min(0), mine.max(0)
-        out = []
-        for oid, theirs in self.others:
-            if (theirs.min(0) > hi).any() or (theirs.max(0) < lo).any():
-                continue  # their bounds are apart
-            if footprint_overlap(mine, theirs) > FLOOR_OVERLAP_SHARE:
-                out.append(oid)
-        return out
+        return [oid for oid, theirs in self.others if one_over_other(mine, theirs)]

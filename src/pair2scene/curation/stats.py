@@ -198,6 +198,15 @@ def footprint_overlap(a: np.ndarray, b: np.ndarray) -> float:
     return convex_overlap_area(a, b) / smaller if smaller > 1e-9 else 0.0
 
 
+def one_over_other(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two convex footprints overlap by more than :data:`FLOOR_OVERLAP_SHARE`
+    (:func:`footprint_overlap`): one stands over or under the other. Their bounds are
+    compared first."""
+    if (b.min(0) > a.max(0)).any() or (b.max(0) < a.min(0)).any():
+        return False
+    return footprint_overlap(a, b) > FLOOR_OVERLAP_SHARE
+
+
 def overlap_key(a: str, b: str) -> str:
     """The key of a pair of categories in :attr:`HierarchyStats.floor_overlaps`:
     ``"chair|dining_table"``, the two in alphabetical order."""
@@ -210,11 +219,8 @@ def floor_overlaps(placed: list[SceneObject]) -> Counter[str]:
     floor = [(o.category, footprint(o.box)) for o in placed if o.support == FLOOR]
     out: Counter[str] = Counter()
     for i, (cat_a, a) in enumerate(floor):
-        lo_a, hi_a = a.min(0), a.max(0)
         for cat_b, b in floor[i + 1 :]:
-            if (b.min(0) > hi_a).any() or (b.max(0) < lo_a).any():
-                continue  # their bounds are apart
-            if footprint_overlap(a, b) > FLOOR_OVERLAP_SHARE:
+            if one_over_other(a, b):
                 out[overlap_key(cat_a, cat_b)] += 1
     return out
 

@@ -42,7 +42,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import FLOOR_OVERLAP_SHARE, footprint_overlap
+from pair2scene.curation.stats import one_over_other
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
@@ -204,12 +204,9 @@ def floor_overlaps(scene: Scene) -> list[int]:
     floor = [(o.category, footprint(o.box)) for o in _floor_objects(scene)]
     over = set()
     for i, (cat_a, a) in enumerate(floor):
-        lo, hi = a.min(0), a.max(0)
         for j in range(i + 1, len(floor)):
             cat_b, b = floor[j]
-            if _tucked(cat_a, cat_b) or (b.min(0) > hi).any() or (b.max(0) < lo).any():
-                continue
-            if footprint_overlap(a, b) > FLOOR_OVERLAP_SHARE:
+            if not _tucked(cat_a, cat_b) and one_over_other(a, b):
                 over.update((i, j))
     return [len(over), len(floor)]
 
