@@ -360,8 +360,8 @@ def set_threads(threads: int | None = None) -> None:
     handful of small matrices, where a second thread gains nothing on an idle machine and
     costs a lot on a busy one. The rest of a scene's products (asset meshes, point clouds,
     collision) are as small; left at a BLAS's default of one thread a core, each library's
-    worker threads spin between them, and two generating processes on two cores made 1.70x
-    the scenes of one instead of 1.92x (docs/benchmarks.md). Parallelism comes from
+    worker threads spin between them, and two generating processes on two cores made 1.68x
+    the scenes of one instead of 1.89x (run in turn; docs/benchmarks.md). Parallelism comes from
     processes: run several generate jobs side by side."""
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")

@@ -317,7 +317,8 @@ def face_axis_depth(a: Shape, i: int, b: Shape, j: int) -> float:
     """The least overlap of part ``i`` of ``a`` and part ``j`` of ``b`` (posed; each as its
     convex hull, as fcl takes it) along the face normals of both: moving one that far
     along that normal separates them, so their penetration depth is at most this. 0 when
-    one of the normals separates them."""
+    one of the normals separates them; infinite (no bound) when neither part has a face
+    of non-zero area."""
     parts = []
     for shape, k in ((a, i), (b, j)):
         mesh = shape.asset.parts[k].mesh
