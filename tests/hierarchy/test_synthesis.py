@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 from collections import Counter
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from clitools import run_cli
 from llm_server import ChatServer, Reply, completion, ok
+from pair2scene.assembly.sizes import SizeTable
 from pair2scene.curation.stats import HierarchyStats
 from pair2scene.errors import UserError
 from pair2scene.hierarchy.build import build_hierarchy
@@ -18,6 +20,7 @@ from pair2scene.hierarchy.synthesis import (
     Statistics,
     SynthesisConfig,
     capacity,
+    floor_budget,
     furnished,
     load_stats,
     synthesize,
@@ -61,6 +64,47 @@ def test_beyond_adds_furniture_until_it_can_carry_the_objects(stats):
         fit_floor = [n.category for n in fit.children(FLOOR)]
         for cat in ("bed", "chair", "armchair"):  # the (same) template's, never extra
             assert floor.count(cat) == fit_floor.count(cat), (seed, floor, fit_floor)
+
+
+@pytest.mark.parametrize("room", ["bedroom", "living_room", "bathroom"])
+def test_beyond_furniture_stays_within_the_largest_rooms_floor(stats, room):
+    """Extra furniture stops where its footprints would cover more of the type's largest
+    training room than a drawn room is sized for: 320 objects ask for more surfaces, not
+    for twenty dressers. Without the budget the same requests overfill that room."""
+    st, rs = Statistics.for_room(stats, room)
+    budget = floor_budget(rs)
+    assert budget is not None and 5 < budget < 40
+    sizes = SizeTable.load()
+    request = SynthesisConfig("beyond", max_objects=320, seed=0)
+    for seed in range(5):
+        h = synthesize(stats, room, replace(request, seed=seed))
+        area = sum(sizes.footprint(n.category) for n in h.children(FLOOR))
+        assert area <= budget, (seed, area, budget)
+        assert len(h) == 320  # the objects go on the pieces there are
+    unbounded = Counter()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("pair2scene.hierarchy.synthesis.floor_budget", lambda rs: None)
+        for seed in range(5):
+            h = synthesize(stats, room, replace(request, seed=seed))
+            unbounded[seed] = sum(sizes.footprint(n.category) for n in h.children(FLOOR))
+    assert max(unbounded.values()) > budget  # the budget is what bounds them
+
+
+@pytest.mark.parametrize(
+    "room, fixtures",
+    [("bathroom", ("toilet", "sink", "bathtub")), ("kitchen", ("fridge", "stove", "sink"))],
+)
+def test_beyond_adds_no_fixtures_or_appliances(stats, room, fixtures):
+    """A dense bathroom gets more counter and shelf, never a second toilet: fixtures and
+    appliances come only as the drawn training room had them."""
+    rs = Statistics.for_room(stats, room)[1]
+    most = {c: max(rs.furniture_counts().get(c, {0: 1})) for c in fixtures}
+    for seed in range(10):
+        h = synthesize(stats, room, SynthesisConfig("beyond", max_objects=80, seed=seed))
+        counts = Counter(n.category for n in h.children(FLOOR))
+        for cat in fixtures:
+            assert counts[cat] <= most[cat], (seed, cat, counts)
+        assert counts["counter_top"] >= 1
 
 
 def test_same_seed_same_hierarchy(stats):

@@ -93,6 +93,17 @@ class SizeTable:
             size = size[[1, 0, 2]]
         return size
 
+    def footprint(self, category: str) -> float:
+        """The median floor area (m2, width x depth) of ``category``'s observed sizes
+        standing on something (its typical size's if the data has none): what a piece is
+        counted on to cover before its size is drawn."""
+        observed = self.sizes.get(category)
+        if observed is None or len(observed) == 0:
+            from pair2scene.assets.typical_sizes import typical_size
+
+            observed = np.asarray(typical_size(category).size, dtype=float)[None]
+        return float(np.median(observed[:, 0] * observed[:, 1]))
+
     def to_json(self) -> str:
         doc = {
             "format": SIZES_FORMAT,

@@ -32,8 +32,9 @@ Modes:
   training distribution.
 - ``beyond``: ``N_max`` is ``max_objects`` (default 80); extra floor furniture that holds
   objects (shelves, tables, dressers seen in that room type) is added to the template
-  until its pieces can carry ``N_max`` objects (:func:`capacity`), and passes repeat until
-  ``N_max``: scenes denser than any training room.
+  until its pieces can carry ``N_max`` objects (:func:`capacity`) or would cover more
+  floor than the type's largest training room is drawn for (:func:`floor_budget`), and
+  passes repeat until ``N_max``: scenes denser than any training room.
 
 Everything draws from one ``numpy.random.Generator`` seeded by ``seed``: same seed, same
 statistics, same hierarchy.
@@ -42,6 +43,7 @@ statistics, same hierarchy.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -66,8 +68,8 @@ MODES = ("fit", "beyond")
 DEFAULT_BEYOND_OBJECTS = 80
 MAX_OBJECTS_LIMIT = 500
 """The most objects a scene may be asked for (``max_objects``): dense ProcTHOR rooms hold
-about 150 and a 320-object bedroom takes ~20 s to place; beyond this a request is refused
-rather than left to run for hours."""
+about 150 and a 320-object bedroom takes ~5 s to place (docs/benchmarks.md); beyond this a
+request is refused rather than left to run for hours."""
 MAX_PASSES = 50
 """Expansion passes before giving up on reaching the target count."""
 MAX_K_BOOST = 64.0
@@ -426,25 +428,88 @@ def _draw_room(rs, with_count: bool, rng) -> tuple[list[str], int]:
 
 
 def extra_furniture(
-    st: Statistics, rs, target: int, have: list[str], rng, load: float = BEYOND_LOAD
+    st: Statistics,
+    rs,
+    target: int,
+    have: list[str],
+    rng,
+    load: float = BEYOND_LOAD,
+    footprint: Callable[[str], float] | None = None,
 ) -> list[str]:
     """``beyond``: furniture of this room type that holds objects, added until the scene's
     pieces (``have``'s and the extra ones, each counting itself and its
     :func:`capacity`) can carry ``target`` objects. A category is drawn by how many
     training rooms of the type had it; furniture counted on for less than one object
-    (beds, chairs) is not added."""
+    (beds, chairs) is not added, nor fixtures and appliances (:func:`holder`).
+
+    The floor bounds it too: the pieces' footprints (``footprint``, m2 by category; the
+    bundled size table's medians by default) stay within :func:`floor_budget`, what the
+    type's largest training room holds. A drawn category that no longer fits leaves the
+    draw, smaller ones may still come; what the pieces cannot carry then goes on them as
+    far as placement finds room. Without a budget a 320-object bedroom was asked for
+    12-22 dressers and 5-10 dining tables, 0.65-0.71 of its 57 m2 of floor: a third of
+    them failed to fit, and most of the scene's time went into trying."""
     counts = rs.furniture_counts()
     pool = Counter(
         {c: sum(n for k, n in hist.items() if k > 0)
-         for c, hist in counts.items() if capacity(st, c, load) >= 1}
+         for c, hist in counts.items() if capacity(st, c, load) >= 1 and holder(c)}
     )  # fmt: skip
+    area = footprint or _bundled_footprint
+    budget = floor_budget(rs)
+    used = sum(area(c) for c, mounted in map(split_member, have) if not mounted)
     carried = sum(1 + capacity(st, c, load) for c in have)
     extra: list[str] = []
     while pool and carried < target and len(have) + len(extra) < target:
         cat = draw_counted(pool, rng)
+        if budget is not None and used + area(cat) > budget:
+            del pool[cat]
+            continue
         extra.append(cat)
+        used += area(cat)
         carried += 1 + capacity(st, cat, load)
     return extra
+
+
+EXTRA_FIXTURES = frozenset({"counter_top"})
+"""Fixtures ``beyond`` may add more of: a longer counter run. The others (a toilet, a
+sink, a stove, a bathtub) carry things only by the way."""
+NOT_EXTRA = frozenset({"fridge"})
+"""Furniture ``beyond`` never adds: appliances (a second fridge for the magnets on top)."""
+
+
+def holder(category: str) -> bool:
+    """Whether ``beyond`` may add a piece of ``category`` to carry objects: furniture
+    and counters, not fixtures (toilets: 8-11 in a beyond bathroom of 80 objects, whose
+    rolls and brushes they carried) or appliances."""
+    if category in NOT_EXTRA:
+        return False
+    known = BY_NAME.get(category)
+    return known is None or known.super != SuperCategory.FIXTURE or category in EXTRA_FIXTURES
+
+
+def floor_budget(rs) -> float | None:
+    """m2 of floor furniture footprint the room type's largest training room holds at
+    :data:`~pair2scene.assembly.rooms.MAX_FLOOR_SHARE` (the share a drawn room is sized
+    for; None when the statistics keep no room shapes)."""
+    from pair2scene.assembly.rooms import MAX_FLOOR_SHARE
+    from pair2scene.scene.geometry import polygon_area
+
+    if not rs.floor_shapes:
+        return None
+    largest = max(abs(polygon_area(np.asarray(k[1:], float).reshape(-1, 2)))
+                  for k in rs.floor_shapes)  # fmt: skip
+    return MAX_FLOOR_SHARE * largest
+
+
+@lru_cache(maxsize=1)
+def _bundled_sizes():
+    from pair2scene.assembly.sizes import SizeTable
+
+    return SizeTable.load()
+
+
+def _bundled_footprint(category: str) -> float:
+    return _bundled_sizes().footprint(category)
 
 
 def stats_summary(stats: HierarchyStats) -> str:
