@@ -67,18 +67,28 @@ class FloorOverlaps:
         )
 
 
-@dataclass
 class FloorCheck:
     """One floor object's test: the placed floor objects (id, footprint) whose footprint
     it may not overlap by more than
     :data:`~pair2scene.curation.stats.FLOOR_OVERLAP_SHARE` of the smaller one's
     area."""
 
-    others: list[tuple[str, np.ndarray]]
+    def __init__(self, others: list[tuple[str, np.ndarray]]) -> None:
+        self.others = others
+        # Their bounds, to pass over at once the footprints a candidate's bounds miss
+        # (most of a dense room's): :func:`one_over_other` tests the bounds first too.
+        corners = [theirs for _, theirs in others]
+        self._lo = np.array([c.min(0) for c in corners]).reshape(-1, 2)
+        self._hi = np.array([c.max(0) for c in corners]).reshape(-1, 2)
 
     def hits(self, box: OrientedBox) -> list[str]:
         """The ids of the objects ``box``'s footprint overlaps so."""
         if not self.others:
             return []
         mine = footprint(box)
-        return [oid for oid, theirs in self.others if one_over_other(mine, theirs)]
+        near = ~((self._lo > mine.max(0)) | (self._hi < mine.min(0))).any(axis=1)
+        return [
+            self.others[i][0]
+            for i in np.flatnonzero(near)
+            if one_over_other(mine, self.others[i][1])
+        ]
