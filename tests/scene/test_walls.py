@@ -7,7 +7,13 @@ import pytest
 
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import Room
-from pair2scene.scene.walls import WALL_FRAME_DEPTH_M, against_wall, wall_contact, walls_of
+from pair2scene.scene.walls import (
+    EMBEDDED_M,
+    WALL_FRAME_DEPTH_M,
+    against_wall,
+    wall_contact,
+    walls_of,
+)
 
 RECT = Room("bedroom", np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float))
 L_ROOM = Room("bedroom", np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float))
@@ -36,6 +42,21 @@ def test_bed_with_its_headboard_to_the_wall_faces_in():
     assert not against_wall(facing_wall, walls)
     turned = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi + np.radians(25))
     assert not against_wall(turned, walls)
+
+
+def test_a_back_that_reaches_into_its_wall_stands_against_it():
+    """A counter spanning wall to wall whose box reaches 0.30 m into the wall behind it (as
+    AI2-THOR's FloorPlan411 counter) stands back to that wall, not sideways; one reaching
+    further than EMBEDDED_M does not."""
+    walls = walls_of(RECT.floor_polygon)
+    depth = 1.36
+    for beyond, against in ((0.30, True), (EMBEDDED_M - 0.05, True), (EMBEDDED_M + 0.1, False)):
+        counter = OrientedBox.from_yaw([2, 3 + beyond - depth / 2, 0.45], [4.2, depth, 0.9], np.pi)
+        assert against_wall(counter, walls) is against, beyond
+        assert against_wall(counter, walls, max_gap=0.3) is against, beyond
+    # a face short of the wall by more than the gap stays off it, whatever the depth allowed
+    short = OrientedBox.from_yaw([2, 3 - 0.2 - depth / 2, 0.45], [3.0, depth, 0.9], np.pi)
+    assert not against_wall(short, walls)
 
 
 def test_side_to_the_wall_and_the_inner_corner_of_an_l():

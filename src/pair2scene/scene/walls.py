@@ -37,6 +37,10 @@ AGAINST_ANGLE_DEG = 15.0
 """... when parallel to it within this many degrees."""
 MIN_OVERLAP = 0.5
 """... and when at least this share of the face's width lies along the segment."""
+EMBEDDED_M = 0.5
+"""A back face this far beyond its wall's plane (or less) stands against the wall too: the
+box reaches into the wall, as one AI2-THOR bathroom counter's does (FloorPlan411, 0.30 m;
+its sides against the two side walls, it had counted as standing sideways)."""
 FACES = ("back", "left", "right", "front")
 """An object's vertical faces by their outward normal in its local frame: back -y,
 left -x, right +x, front +y. ``back`` against a wall means facing into the room."""
@@ -237,5 +241,10 @@ def against_wall(
     max_gap: float = AGAINST_GAP_M,
     max_angle: float = AGAINST_ANGLE_DEG,
 ) -> bool:
-    """Whether ``box``'s back face stands against a wall, facing into the room."""
-    return any(c.face == "back" for c in face_contacts(box, walls, max_gap, max_angle))
+    """Whether ``box``'s back face stands against a wall, facing into the room: within
+    ``max_gap`` of it, or beyond its plane by up to :data:`EMBEDDED_M` (a box that reaches
+    into the wall)."""
+    reach = max(max_gap, EMBEDDED_M)
+    return any(
+        c.face == "back" and c.gap <= max_gap for c in face_contacts(box, walls, reach, max_angle)
+    )
