@@ -506,13 +506,14 @@ class HierarchyStats:
                 continue
             wall = wall_anchor(scene, o, walls)
             gap = FIXTURE_WALL_GAP_M if o.super is SuperCategory.FIXTURE else AGAINST_GAP_M
-            by_wall = wall is not None or wall_contact(o.box, walls, gap) is not None
+            backed = against_wall(o.box, walls, gap)  # (its box may reach into the wall)
+            by_wall = backed or wall is not None or wall_contact(o.box, walls, gap) is not None
             form = form_key(o.category, o.box.size)  # an L counter, counted apart too
             for key in (o.category,) if form is None else (o.category, form):
                 room.on_floor[key] += 1
                 room.against_wall[key] += int(by_wall)
                 room.in_corner[key] += int(by_wall and in_corner(o.box, walls))
-                room.sideways[key] += int(by_wall and not against_wall(o.box, walls, gap))
+                room.sideways[key] += int(by_wall and not backed)
             anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
             if wall is not None and anchor is not None:
                 d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres
