@@ -48,6 +48,7 @@ from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
+    FIXTURES,
     MAX_OBJECTS_LIMIT,
     Statistics,
     SynthesisConfig,
@@ -225,7 +226,8 @@ def hierarchy_from_spec(
     if config.max_objects is not None:
         target = min(target, config.max_objects)
     target = min(target, MAX_OBJECTS_LIMIT)
-    expand(h, st, max(target, len(h)), rng, config.k, skip=avoid)
+    once = FIXTURES if config.mode == "beyond" else frozenset()
+    expand(h, st, max(target, len(h)), rng, config.k, skip=avoid, once=once)
     return h.validate()
 
 

@@ -323,15 +323,20 @@ def expand(
     fixed: frozenset[str] = frozenset(),
     passes: int = MAX_PASSES,
     skip: frozenset[str] = frozenset(),
+    once: frozenset[str] = frozenset(),
 ) -> int:
     """Expansion passes (the module docstring's step 2) until ``target`` objects; returns
     how many passes ran. Nodes in ``fixed`` get no dependents, categories in ``skip`` are
     never added; the floor is never expanded here. A pass that adds nothing doubles k (up
-    to :data:`MAX_K_BOOST` times)."""
+    to :data:`MAX_K_BOOST` times). Categories in ``once`` are offered on the first pass
+    only (``beyond``'s fixtures: a counter takes its sink at the training rate once, where
+    later passes, boosted, had put 15 sinks on the counters of a 500-object bathroom)."""
     boost = 1.0
     for done in range(passes):
         if len(h) >= target:
             return done
+        if done == 1:
+            skip = skip | once
         before = len(h)
         queue = [n for n in h.nodes if n.id not in fixed]
         head = 0
@@ -388,7 +393,7 @@ def synthesize(
         template = [template[i] for i in sorted(rng.permutation(len(template))[:target])]
         h.notes.append(f"template cut to {target} pieces by the object cap")
     add_floor_furniture(h, template, st, rng)
-    expand(h, st, target, rng, config.k)
+    expand(h, st, target, rng, config.k, once=FIXTURES if config.mode == "beyond" else frozenset())
     if len(h) < target:
         h.notes.append(
             f"{len(h)} of {target} objects: the statistics offer no more dependents for this "
@@ -470,6 +475,8 @@ def extra_furniture(
     return extra
 
 
+FIXTURES = frozenset(c for c, known in BY_NAME.items() if known.super == SuperCategory.FIXTURE)
+"""Categories built into the room or into their support (toilets, sinks, counters)."""
 EXTRA_FIXTURES = frozenset({"counter_top"})
 """Fixtures ``beyond`` may add more of: a longer counter run. The others (a toilet, a
 sink, a stove, a bathtub) carry things only by the way."""
