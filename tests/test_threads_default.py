@@ -54,6 +54,24 @@ def test_every_blas_library_gets_one_thread_unless_asked():
         assert _blas_threads() in (set(), {2})
 
 
+def test_the_top_views_software_gl_gets_the_thread_count(monkeypatch):
+    """Mesa's llvmpipe starts a rasterising thread a core unless LP_NUM_THREADS says;
+    set_threads says, unless the environment had set it before pair2scene was imported."""
+    import pair2scene.generate as generate
+
+    monkeypatch.delenv("LP_NUM_THREADS", raising=False)
+    with threadpool_limits(limits=None):  # (put back the BLAS limits it sets)
+        monkeypatch.setattr(generate, "_USER_LP_THREADS", False)
+        generate.set_threads()
+        assert generate.os.environ["LP_NUM_THREADS"] == "1"
+        generate.set_threads(2)
+        assert generate.os.environ["LP_NUM_THREADS"] == "2"
+        monkeypatch.setenv("LP_NUM_THREADS", "3")
+        monkeypatch.setattr(generate, "_USER_LP_THREADS", True)
+        generate.set_threads()
+        assert generate.os.environ["LP_NUM_THREADS"] == "3"
+
+
 def test_the_blas_threads_do_not_change_a_scene():
     from pair2scene.generate import Pair2Scene
     from pair2scene.io.scene_json import dumps_scene

@@ -20,6 +20,7 @@ written is dropped, exit 143).
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 import time
 from collections.abc import Iterator, Sequence
@@ -350,6 +351,11 @@ def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -
     return {k: v for k, v in leaves(config, "").items() if v != default[k]}
 
 
+_USER_LP_THREADS = "LP_NUM_THREADS" in os.environ
+"""Whether the environment set llvmpipe's thread count itself (then :func:`set_threads`
+leaves it)."""
+
+
 def set_threads(threads: int | None = None) -> None:
     """The process's CPU threads: ``threads``, or one, for numpy's BLAS (every BLAS
     library loaded, numpy's and scipy's: threadpoolctl) and torch's, when torch is loaded.
@@ -362,9 +368,16 @@ def set_threads(threads: int | None = None) -> None:
     collision) are as small; left at a BLAS's default of one thread a core, each library's
     worker threads spin between them, and two generating processes on two cores made 1.68x
     the scenes of one instead of 1.89x (run in turn; docs/benchmarks.md). Parallelism comes from
-    processes: run several generate jobs side by side."""
+    processes: run several generate jobs side by side.
+
+    The top view's software GL (Mesa's llvmpipe) is held to the same count
+    (``LP_NUM_THREADS``, unless the environment set it before pair2scene was imported):
+    it starts a rasterising thread a core otherwise. It reads the setting when the first
+    GL context is made, so a later call does not change it."""
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")
+    if not _USER_LP_THREADS:
+        os.environ["LP_NUM_THREADS"] = str(threads or 1)
     from threadpoolctl import ThreadpoolController
 
     ThreadpoolController().limit(limits=threads or 1, user_api="blas")
