@@ -490,8 +490,7 @@ def holder(category: str) -> bool:
     rolls and brushes they carried) or appliances."""
     if category in NOT_EXTRA:
         return False
-    known = BY_NAME.get(category)
-    return known is None or known.super != SuperCategory.FIXTURE or category in EXTRA_FIXTURES
+    return category not in FIXTURES or category in EXTRA_FIXTURES
 
 
 def floor_budget(rs) -> float | None:
