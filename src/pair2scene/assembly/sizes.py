@@ -77,13 +77,7 @@ class SizeTable:
         a source box read a quarter turn off (1 of the 4 towel rails of the training
         rooms, 0.66 m out from its wall; 1 of 10 wall microwaves; 2 of 22 toilet paper
         holders), so it is turned."""
-        observed = self.sizes.get(category + WALL_MARK) if mounted else None
-        if observed is None:
-            observed = self.sizes.get(category)
-        if observed is None or len(observed) == 0:
-            from pair2scene.assets.typical_sizes import typical_size
-
-            observed = np.asarray(typical_size(category).size, dtype=float)[None]
+        observed = self._observed(category, mounted)
         if fits is not None:
             ok = fits(observed)
             observed = observed[ok] if ok.any() else observed[[np.argmin(observed[:, :2].prod(1))]]
@@ -97,12 +91,20 @@ class SizeTable:
         """The median floor area (m2, width x depth) of ``category``'s observed sizes
         standing on something (its typical size's if the data has none): what a piece is
         counted on to cover before its size is drawn."""
-        observed = self.sizes.get(category)
+        observed = self._observed(category)
+        return float(np.median(observed[:, 0] * observed[:, 1]))
+
+    def _observed(self, category: str, mounted: bool = False) -> np.ndarray:
+        """(K, 3) sizes of ``category`` (hung on a wall: of those, when the data had
+        such), or its typical size's (1, 3) when the data has none."""
+        observed = self.sizes.get(category + WALL_MARK) if mounted else None
+        if observed is None:
+            observed = self.sizes.get(category)
         if observed is None or len(observed) == 0:
             from pair2scene.assets.typical_sizes import typical_size
 
             observed = np.asarray(typical_size(category).size, dtype=float)[None]
-        return float(np.median(observed[:, 0] * observed[:, 1]))
+        return observed
 
     def to_json(self) -> str:
         doc = {

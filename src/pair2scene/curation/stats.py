@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -213,16 +213,21 @@ def overlap_key(a: str, b: str) -> str:
     return "|".join(sorted((a, b)))
 
 
+def one_over_another(footprints: list[np.ndarray]) -> Iterator[tuple[int, int]]:
+    """The index pairs (i < j) of ``footprints`` that stand one over or under the other
+    (:func:`one_over_other`)."""
+    for i, a in enumerate(footprints):
+        for j in range(i + 1, len(footprints)):
+            if one_over_other(a, footprints[j]):
+                yield i, j
+
+
 def floor_overlaps(placed: list[SceneObject]) -> Counter[str]:
     """:func:`overlap_key` -> pairs of the floor objects among ``placed`` whose footprints
     overlap by more than :data:`FLOOR_OVERLAP_SHARE` (:func:`footprint_overlap`)."""
-    floor = [(o.category, footprint(o.box)) for o in placed if o.support == FLOOR]
-    out: Counter[str] = Counter()
-    for i, (cat_a, a) in enumerate(floor):
-        for cat_b, b in floor[i + 1 :]:
-            if one_over_other(a, b):
-                out[overlap_key(cat_a, cat_b)] += 1
-    return out
+    floor = [o for o in placed if o.support == FLOOR]
+    pairs = one_over_another([footprint(o.box) for o in floor])
+    return Counter(overlap_key(floor[i].category, floor[j].category) for i, j in pairs)
 
 
 def floor_shape(room: Room) -> tuple[float, ...]:

@@ -48,7 +48,6 @@ from pair2scene.curation.stats import HierarchyStats, draw_counted, split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.hierarchy.synthesis import (
     DEFAULT_BEYOND_OBJECTS,
-    FIXTURES,
     MAX_OBJECTS_LIMIT,
     Statistics,
     SynthesisConfig,
@@ -56,6 +55,7 @@ from pair2scene.hierarchy.synthesis import (
     expand,
     extra_furniture,
     load_stats,
+    offered_once,
 )
 from pair2scene.hierarchy.text import MOUNTABLE, WALL_OBJECTS, Mention, TextSpec
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
@@ -226,8 +226,7 @@ def hierarchy_from_spec(
     if config.max_objects is not None:
         target = min(target, config.max_objects)
     target = min(target, MAX_OBJECTS_LIMIT)
-    once = FIXTURES if config.mode == "beyond" else frozenset()
-    expand(h, st, max(target, len(h)), rng, config.k, skip=avoid, once=once)
+    expand(h, st, max(target, len(h)), rng, config.k, skip=avoid, once=offered_once(config.mode))
     return h.validate()
 
 

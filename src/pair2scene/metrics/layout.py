@@ -42,7 +42,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import one_over_other
+from pair2scene.curation.stats import one_over_another
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
@@ -201,13 +201,11 @@ def _tucked(a: str, b: str) -> bool:
 def floor_overlaps(scene: Scene) -> list[int]:
     """[floor objects over or under another's footprint (seats under tables excepted),
     floor objects]."""
-    floor = [(o.category, footprint(o.box)) for o in _floor_objects(scene)]
+    floor = _floor_objects(scene)
     over = set()
-    for i, (cat_a, a) in enumerate(floor):
-        for j in range(i + 1, len(floor)):
-            cat_b, b = floor[j]
-            if not _tucked(cat_a, cat_b) and one_over_other(a, b):
-                over.update((i, j))
+    for i, j in one_over_another([footprint(o.box) for o in floor]):
+        if not _tucked(floor[i].category, floor[j].category):
+            over.update((i, j))
     return [len(over), len(floor)]
 
 
