@@ -114,3 +114,64 @@ def test_a_fixture_a_little_off_its_wall_counts_as_against_it_and_furniture_does
     rs = HierarchyStats.fit([scene]).room_types["bathroom"]
     assert rs.against_wall["toilet"] == 1 and rs.against_wall["bed"] == 0
     assert rs.sideways["toilet"] == 0 and rs.in_corner["toilet"] == 0
+
+
+def _kitchen(i: int, lone: bool) -> Scene:
+    """A chair at a table mid-room, or (``lone``) a chair alone with its back to a wall."""
+    table = OrientedBox.from_yaw([2.0, 1.5, 0.4], [1.2, 0.8, 0.8])
+    if lone:
+        chair = OrientedBox.from_yaw([3.0 + 0.01 * i, 2.74, 0.45], [0.5, 0.5, 0.9], np.pi)
+        return Scene(f"k{i}", ROOM, [SceneObject("chair_0", "chair", chair, None, FLOOR)])
+    chair = OrientedBox.from_yaw([2.0, 0.75 + 0.01 * i, 0.45], [0.5, 0.5, 0.9])
+    objects = [
+        SceneObject("table_0", "dining_table", table, None, FLOOR),
+        SceneObject("chair_0", "chair", chair, None, FLOOR, functional_anchor="table_0"),
+    ]
+    return Scene(f"k{i}", ROOM, objects)
+
+
+@pytest.mark.parametrize("alone", [5, 4])
+def test_objects_alone_take_the_wall_share_of_those_alone(alone):
+    """A chair at its table stands at the wall share of chairs at tables, one without a
+    table at the share of chairs alone, once enough of each were counted (else the
+    category's share for both)."""
+    scenes = [_kitchen(i, lone=False) for i in range(6)]
+    scenes += [_kitchen(10 + i, lone=True) for i in range(alone)]
+    stats = HierarchyStats.from_json(HierarchyStats.fit(scenes).to_json())
+    rs = stats.room_types["bedroom"]
+    assert (rs.on_floor["chair~anchored"], rs.against_wall["chair~anchored"]) == (6, 0)
+    rules = WallRules.from_stats(stats)
+    every = alone / (6 + alone)
+    assert rules.rate("bedroom", "chair") == pytest.approx(every)
+    assert rules.rate("bedroom", "chair", anchored=True) == 0.0
+    assert rules.rate("kitchen", "chair", anchored=True) == 0.0  # pooled, split the same
+    lone = rules.rate("bedroom", "chair", anchored=False)
+    assert lone == (1.0 if alone >= 5 else pytest.approx(every))
+    draws = [rules.against_wall("bedroom", "chair", s, anchored=False) for s in range(40)]
+    assert all(draws) if alone >= 5 else 0 < sum(draws) < 40
+    assert rules.rate("bedroom", "dining_table", anchored=False) == 0.0  # never anchored
+
+
+@pytest.mark.parametrize("split", [True, False])
+def test_placement_stands_a_chair_without_its_table_at_the_share_of_chairs_alone(split):
+    """Half the chairs stand against a wall, all of those without a table: a chair with
+    no table in its room stands against a wall every time, unless the split is off."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.walls import face_contacts
+
+    rules = WallRules(rates={"kitchen": {"chair": (5, 10), "chair~anchored": (0, 5)}})
+    assert rules.rate("kitchen", "chair", anchored=False) == 1.0
+    config = AssemblyConfig(split_wall_rates=split, corners=False, sideways=False)
+    placer = Placer(from_pretrained(), config=config, walls=rules)
+    room = Room("kitchen", np.array([[0, 0], [5, 0], [5, 4], [0, 4]], float))
+    walls = walls_of(room.floor_polygon)
+    against = []
+    for seed in range(8):
+        h = Hierarchy("kitchen")
+        h.add("chair", FLOOR)
+        (chair,) = placer.place(h.validate(), room, seed=seed).scene.objects
+        against.append(bool(face_contacts(chair.box, walls)))
+    assert all(against) if split else not all(against)

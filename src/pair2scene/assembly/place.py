@@ -319,6 +319,15 @@ class AssemblyConfig:
     tried turned that way at its place along the wall, facing the room's side of it
     (:func:`~pair2scene.assembly.walls.turn_sideways`), then as drawn; such an object is
     put in no corner. Needs ``walls``."""
+    split_wall_rates: bool = True
+    """A floor object whose functional anchor stands in the room (a chair at its table)
+    stands against a wall, in a corner and sideways at the shares of the training rooms'
+    objects of its category that had one, and an object without one (a chair in a room
+    with no table) at the shares of those standing alone
+    (:meth:`~pair2scene.assembly.walls.WallRules.rate`'s ``anchored``; kitchen chairs 0.21
+    and 0.73 against a wall, bedroom chairs 0.14 and 0.78, living-room floor lamps 0.27
+    and 0.87). False: one share per category, and a lone chair stood mid-room as often as
+    a chair at a table stands away from the walls. Needs ``walls``."""
     wall_spacing: bool = True
     """A mounted object (not curtains or blinds) keeps at least
     :data:`~pair2scene.curation.stats.CLOSE_WALL_M` along its wall from the others on it,
@@ -751,7 +760,9 @@ class Placer:
             queries = [(query, None)]
             turned = False  # stands sideways to its wall, if it stands against one
             if item.support == FLOOR:
-                turned = node.id not in backed and self._sideways(node, room, seed, asset.size)
+                turned = node.id not in backed and self._sideways(
+                    node, room, seed, asset.size, self._anchored(functional)
+                )
                 queries = self._wall_queries(query, node, room, placed, seed, check,
                                              node.id in backed, turned) or queries  # fmt: skip
             elif mounted:
@@ -802,7 +813,11 @@ class Placer:
                 and not context.sideways
                 and self.walls is not None
                 and self.walls.in_corner(
-                    room.type, node.category, asset_seed(node.id, seed), asset.size
+                    room.type,
+                    node.category,
+                    asset_seed(node.id, seed),
+                    asset.size,
+                    self._anchored(functional),
                 )
             ):
                 ends = convex_ends(walls_of(room.floor_polygon))
@@ -974,7 +989,10 @@ class Placer:
             return []
         seed_ = asset_seed(node.id, seed)
         size = np.asarray(query.size, float)
-        if not backed and not self.walls.against_wall(room.type, node.category, seed_, size):
+        anchored = self._anchored(query.functional)
+        if not backed and not self.walls.against_wall(
+            room.type, node.category, seed_, size, anchored
+        ):
             return []
         width, depth = size[:2]  # along the wall and into the room
         if turned:
@@ -997,15 +1015,22 @@ class Placer:
         order = wall_order(walls, free, rng, anchor, distance, in_front)
         return [(replace(query, wall=walls[i].frame(room.height)), walls[i]) for i in order]
 
-    def _sideways(self, node, room: Room, seed: int, size) -> bool:
+    def _sideways(self, node, room: Room, seed: int, size, anchored: bool | None) -> bool:
         """Whether floor object ``node`` of box ``size``, if it stands against a wall,
         stands sideways to it (:attr:`AssemblyConfig.sideways`; a draw of the wall
-        rules)."""
+        rules; ``anchored`` as :meth:`_anchored` gives it)."""
         return (
             self.config.sideways
             and self.walls is not None
-            and self.walls.turned(room.type, node.category, asset_seed(node.id, seed), size)
+            and self.walls.turned(
+                room.type, node.category, asset_seed(node.id, seed), size, anchored
+            )
         )
+
+    def _anchored(self, functional: object | None) -> bool | None:
+        """Whether a floor object's functional anchor stands in the room, for the wall
+        rules' shares (:attr:`AssemblyConfig.split_wall_rates`); None: not asked."""
+        return (functional is not None) if self.config.split_wall_rates else None
 
     def _hangs_across(self, node, anchor: str | None, nodes: dict, seed: int, framed: bool) -> bool:
         """Whether mounted ``node`` hangs across the room from its floor anchor ``anchor``

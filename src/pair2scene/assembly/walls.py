@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pair2scene.assets.forms import form_key
-from pair2scene.curation.stats import HierarchyStats, mean_std
+from pair2scene.curation.stats import HierarchyStats, anchored_key, mean_std
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import Room
 from pair2scene.scene.walls import Wall
@@ -49,6 +49,10 @@ MIN_FORM_OBJECTS = 5
 and sideways shares to be used there; fewer, and the category's shares in that room type
 stand in (one L counter in the training bathrooms, standing sideways, would otherwise
 turn every generated bathroom's L sideways)."""
+MIN_SPLIT_OBJECTS = 5
+"""Objects with a functional anchor (or without one) a room type must have held of a
+category for their own wall, corner and sideways shares to be used there (:func:`_share`'s
+``anchored``); fewer, and the category's shares stand in."""
 
 
 @dataclass
@@ -103,41 +107,47 @@ class WallRules:
         close = gaps[1] / gaps[0] if gaps is not None and gaps[0] >= MIN_GAP_PAIRS else None
         return cls(rates, distances, corners, sideways, close)
 
-    def rate(self, room_type: str, category: str, size=None) -> float:
+    def rate(self, room_type: str, category: str, size=None, anchored=None) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
         every room type when this one never held it; 0 when none did). With the object's
         ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
-        statistics counted enough of that form in ``room_type`` (:data:`MIN_FORM_OBJECTS`)."""
-        return _share(self.rates, room_type, _key(self.rates, room_type, category, size))
+        statistics counted enough of that form in ``room_type`` (:data:`MIN_FORM_OBJECTS`).
+        With ``anchored`` (True: the object's functional anchor stands in the room; False:
+        it has none), the share of those objects of the category alone, where enough were
+        counted (:data:`MIN_SPLIT_OBJECTS`): a kitchen chair at a table 0.21, alone 0.73."""
+        return _share(self.rates, room_type, category, size, anchored)
 
-    def against_wall(self, room_type: str, category: str, seed: int, size=None) -> bool:
-        """Whether an object (``seed``: its asset seed; ``size``: its box, for its form)
-        stands against a wall: a draw."""
+    def against_wall(
+        self, room_type: str, category: str, seed: int, size=None, anchored=None
+    ) -> bool:
+        """Whether an object (``seed``: its asset seed; ``size``: its box, for its form;
+        ``anchored``: as :meth:`rate`) stands against a wall: a draw."""
         u = np.random.default_rng([seed, _SALT]).random()
-        return bool(u < self.rate(room_type, category, size))
+        return bool(u < self.rate(room_type, category, size, anchored))
 
-    def corner_rate(self, room_type: str, category: str, size=None) -> float:
+    def corner_rate(self, room_type: str, category: str, size=None, anchored=None) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         in a corner (over every room type when this one never had one against a wall; of
-        its form's with ``size``, as :meth:`rate`)."""
-        return _share(self.corners, room_type, _key(self.corners, room_type, category, size))
+        its form's with ``size``, of those with or without an anchor, as :meth:`rate`)."""
+        return _share(self.corners, room_type, category, size, anchored)
 
-    def in_corner(self, room_type: str, category: str, seed: int, size=None) -> bool:
+    def in_corner(self, room_type: str, category: str, seed: int, size=None, anchored=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
         a draw, independent of the wall draw."""
         u = np.random.default_rng([seed, _CORNER_SALT]).random()
-        return bool(u < self.corner_rate(room_type, category, size))
+        return bool(u < self.corner_rate(room_type, category, size, anchored))
 
-    def sideways_rate(self, room_type: str, category: str, size=None) -> float:
+    def sideways_rate(self, room_type: str, category: str, size=None, anchored=None) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
-        with a side, not their back, against it (pooled, and of its form, as :meth:`rate`)."""
-        return _share(self.sideways, room_type, _key(self.sideways, room_type, category, size))
+        with a side, not their back, against it (pooled, of its form, and of those with
+        or without an anchor, as :meth:`rate`)."""
+        return _share(self.sideways, room_type, category, size, anchored)
 
-    def turned(self, room_type: str, category: str, seed: int, size=None) -> bool:
+    def turned(self, room_type: str, category: str, seed: int, size=None, anchored=None) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands sideways to
         it: a draw, independent of the wall and corner draws."""
         u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
-        return bool(u < self.sideways_rate(room_type, category, size))
+        return bool(u < self.sideways_rate(room_type, category, size, anchored))
 
     def keeps_apart(self, seed: int) -> bool:
         """Whether a mounted object (``seed``: its asset seed) hangs at least
@@ -170,13 +180,33 @@ def _key(
     return form if n >= MIN_FORM_OBJECTS else category
 
 
-def _share(table: dict[str, dict[str, tuple[float, float]]], room_type: str, category: str):
-    """``part / whole`` of ``table[room_type][category]``, pooled over every room type
-    when this one has no whole for the category; 0 when none has."""
-    part, whole = table.get(room_type, {}).get(category, (0, 0))
-    if whole <= 0:
-        pooled = [r[category] for r in table.values() if category in r]
-        part, whole = (sum(a for a, _ in pooled), sum(m for _, m in pooled))
+def _share(
+    table: dict[str, dict[str, tuple[float, float]]],
+    room_type: str,
+    category: str,
+    size=None,
+    anchored: bool | None = None,
+) -> float:
+    """``part / whole`` of ``table[room_type]``'s entry for ``category``, pooled over every
+    room type when this one has no whole for the category; 0 when none has. The entry is
+    the form's at ``size`` (:func:`_key`); else, with ``anchored``, the category's objects
+    with a functional anchor (True) or without one (False: the category's counts less
+    those with one), when :data:`MIN_SPLIT_OBJECTS` of them were counted; else the
+    category's."""
+    key = _key(table, room_type, category, size)
+
+    def counts(name: str) -> tuple[float, float]:
+        if table.get(room_type, {}).get(key, (0, 0))[1] > 0:
+            return table[room_type].get(name, (0, 0))
+        pooled = [r[name] for r in table.values() if name in r]
+        return sum(a for a, _ in pooled), sum(m for _, m in pooled)
+
+    part, whole = counts(key)
+    if key == category and anchored is not None:
+        with_part, with_whole = counts(anchored_key(category))
+        own = (with_part, with_whole) if anchored else (part - with_part, whole - with_whole)
+        if own[1] >= MIN_SPLIT_OBJECTS:
+            part, whole = own
     return min(1.0, part / whole) if whole > 0 else 0.0
 
 
