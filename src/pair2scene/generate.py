@@ -166,14 +166,15 @@ class Pair2Scene:
     ) -> None:
         self.model = model
         self.config = config or GenerateConfig()
-        if (
-            not model.honours_temperature
-            and self.config.assembly.temperature != AssemblyConfig.temperature
-        ):
-            raise UserError(
-                f"{type(model).__name__} draws uniformly: a sampling temperature changes "
-                "nothing for it (leave --assembly.temperature at its default)"
-            )
+        for name in ("temperature", "support_temperature"):
+            if not model.honours_temperature and getattr(self.config.assembly, name) != getattr(
+                AssemblyConfig, name
+            ):
+                flag = name.replace("_", "-")
+                raise UserError(
+                    f"{type(model).__name__} draws uniformly: a sampling temperature changes "
+                    f"nothing for it (leave --assembly.{flag} at its default)"
+                )
         self.stats = load_stats() if stats is None else stats
         self.rooms = RoomTable.load() if rooms is None else rooms
         self.placer = Placer(model, SizeTable.load() if sizes is None else sizes,

@@ -19,6 +19,7 @@ from pair2scene.assembly.place import (  # noqa: E402
 )
 from pair2scene.assembly.rest import contact_rectangle, into_room, rest_on_surfaces  # noqa: E402
 from pair2scene.assembly.rooms import make_room  # noqa: E402
+from pair2scene.errors import UserError  # noqa: E402
 from pair2scene.hierarchy.tree import Hierarchy  # noqa: E402
 from pair2scene.model import from_pretrained  # noqa: E402
 from pair2scene.scene.geometry import OrientedBox, rot_x  # noqa: E402
@@ -347,3 +348,32 @@ def test_what_rests_on_a_table_by_the_door_does_not_overhang_into_its_swing():
     (zone,) = door_boxes(room, placer.config.door_clearance_m, room.height)
     assert plant.box.corners()[:, 1].min() >= zone.corners()[:, 1].max() - 1e-6
     assert plant.support == table.id and result.stats.repaired == 1
+
+
+class _Recording:
+    """The bundled model, noting the temperature each query is drawn at."""
+
+    def __init__(self, inner):
+        self.inner, self.seen = inner, []
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+    def draw(self, query, n, temperature, generator, *args, **kwargs):
+        self.seen.append((query.category, temperature))
+        return self.inner.draw(query, n, temperature, generator, *args, **kwargs)
+
+
+def test_objects_on_a_support_are_drawn_at_the_support_temperature():
+    model = _Recording(from_pretrained())
+    config = AssemblyConfig(temperature=0.7, support_temperature=0.9)
+    h = Hierarchy("bedroom")
+    dresser = h.add("dresser", FLOOR)
+    h.add("book", dresser.id)
+    result = Placer(model, config=config).place(
+        h.validate(), make_room("bedroom", np.random.default_rng(0)), seed=0
+    )
+    assert result.stats.placed == 2
+    assert {c: t for c, t in model.seen} == {"dresser": 0.7, "book": 0.9}
+    with pytest.raises(UserError, match="support-temperature must be > 0"):
+        AssemblyConfig(support_temperature=0.0)

@@ -84,7 +84,9 @@ def test_generate_help_lists_the_settings_with_their_docstrings():
     result = CliRunner().invoke(app, ["generate", "--help"], env={"COLUMNS": "200"})
     assert result.exit_code == 0
     assert "--assembly.max-load" in result.output and "--hierarchy.k" in result.output
-    assert "Sampling temperature: below 1 favours the model's confident modes." in result.output
+    assert "Sampling temperature of floor and wall-mounted objects" in result.output
+    assert "--assembly.support-temperature" in result.output
+    assert "Sampling temperature of objects resting on another" in result.output
     assert "(default: 0.4)" in result.output
 
 
