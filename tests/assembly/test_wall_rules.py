@@ -175,3 +175,41 @@ def test_placement_stands_a_chair_without_its_table_at_the_share_of_chairs_alone
         (chair,) = placer.place(h.validate(), room, seed=seed).scene.objects
         against.append(bool(face_contacts(chair.box, walls)))
     assert all(against) if split else not all(against)
+
+
+@pytest.mark.parametrize("closed", [True, False])
+def test_a_shower_cubicle_stands_in_the_corner_at_its_left(closed):
+    """Wall rules that stand no shower against a wall: a cubicle (built with nothing at
+    its back and left) still stands with its back to one wall and its left to the next,
+    unless the rule is off; a thin shower panel is left to the rules."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.assets.forms import closed_by_walls
+    from pair2scene.assets.registry import generate
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.walls import face_contacts
+
+    cubicle = generate("shower", np.array([1.1, 2.2, 2.0]), 3)
+    assert closed_by_walls("shower", cubicle.size)
+    assert not closed_by_walls("shower", [0.9, 0.06, 2.0])
+
+    class Given(Placer):  # the cubicle, whatever the size table would draw
+        def assets_for(self, hierarchy, seed, given=None):
+            return {"shower_0": cubicle}
+
+    rules = WallRules(rates={"bathroom": {"shower": (0, 10)}})
+    config = AssemblyConfig(closed_by_walls=closed)
+    placer = Given(from_pretrained(), config=config, walls=rules)
+    room = Room("bathroom", np.array([[0, 0], [4, 0], [4, 3.5], [0, 3.5]], float))
+    walls = walls_of(room.floor_polygon)
+    faces = []
+    for seed in range(4):
+        h = Hierarchy("bathroom")
+        h.add("shower", FLOOR)
+        (shower,) = placer.place(h.validate(), room, seed=seed).scene.objects
+        faces.append({c.face for c in face_contacts(shower.box, walls)})
+    if closed:
+        assert all({"back", "left"} <= f for f in faces)
+    else:
+        assert not all({"back", "left"} <= f for f in faces)

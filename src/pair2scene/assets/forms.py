@@ -23,6 +23,22 @@ FORM_MARK = "#"
 """Joins a category and a form in a statistics key (``counter_top#shaped``)."""
 
 
+SHOWER_THIN_M = 0.3
+"""A shower box thinner than this in x or y is a door or a glass panel, not a cubicle."""
+
+
+def closed_by_walls(category: str, size: Sequence[float]) -> bool:
+    """Whether ``category``'s asset of box ``size`` is built to stand in a corner, the
+    room's walls closing it: a shower cubicle
+    (:func:`~pair2scene.assets.generators.fixtures.shower`) has a tray, glass or a curtain
+    on its front (+y) and right (+x) and nothing at its back (-y, where its head hangs on
+    its riser) and its left (-x). Placement stands it with its back to a wall and its
+    left to the next (:attr:`~pair2scene.assembly.place.AssemblyConfig.closed_by_walls`):
+    mid-room it was an open tray under a pipe. Both training cubicles (AI2-THOR
+    FloorPlan412 and 418, 1.10 x 2.21 and 1.22 x 2.32 m) stand so."""
+    return category == "shower" and min(float(size[0]), float(size[1])) >= SHOWER_THIN_M
+
+
 def form_of(category: str, size: Sequence[float]) -> str | None:
     """The form of ``category``'s asset of box ``size`` (x, y, z metres) that stands
     unlike the category's others, or None."""

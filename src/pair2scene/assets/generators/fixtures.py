@@ -19,6 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from pair2scene.assets.forms import SHOWER_THIN_M
 from pair2scene.assets.generators.shapes import (
     FINE_SEGMENTS,
     ROD_SEGMENTS,
@@ -43,8 +44,6 @@ from pair2scene.assets.registry import register
 SINK_TALL_M = 0.45
 """A sink box taller than this stands on the floor (pedestal or vanity); a lower one is a
 countertop basin (AI2-THOR's sinks are ~0.15 m high, vanities ~0.9 m)."""
-SHOWER_THIN_M = 0.3
-"""A shower box thinner than this in x or y is a door or a glass panel, not a cubicle."""
 SHOWER_HEAD_MIN_DEPTH_M = 0.12
 """Depth behind a shower panel needed to fit a head on its riser."""
 SINGLE_BURNER_MAX_M = 0.4
