@@ -1,0 +1,106 @@
+"""Pose MMD over more rooms than docs/results.md's 30: how much a 30-room figure can tell.
+
+Run from the repository root, with ``../shared`` beside it (the ProcTHOR val rooms are part
+of the reference)::
+
+    python benchmarks/pose_pooled.py --pairs PAIRS [--blocks 4] [--scenes 30]
+        [--rooms bedroom living_room kitchen] [--work WORK] [--jobs 2] [--no-write]
+
+For ours (fit) and the per-pair Gaussian (fitted on PAIRS' train split, as in
+docs/results.md), each room type, the script generates ``blocks`` sets of ``scenes`` rooms
+(seeds 0 .. blocks x scenes - 1, one ``pair2scene generate --seed S --num N`` a block, the
+commands side by side) and reports the pose MMD against the AI2-THOR + ProcTHOR-1k val rooms
+of each block and of all blocks pooled (:func:`pair2scene.metrics.distribution.pose_mmd`,
+the measure of docs/results.md). WORK keeps the scenes; a second run only generates what is
+missing. The table goes into docs/results.md's Discussion, replacing the one this script
+wrote before (between its markers).
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+DOC = ROOT / "docs" / "results.md"
+PROCTHOR_VAL = ROOT.parent / "shared" / "data" / "procthor-1k" / "val.jsonl.gz"
+BEGIN, END = "<!-- pose-pooled -->", "<!-- /pose-pooled -->"
+
+
+def block_folder(work: Path, method: str, room: str, seed: int) -> Path:
+    return work / method / f"{room}_{seed}"
+
+
+def generate(args: list[str], out: Path) -> None:
+    """One block, unless its folder holds a summary already (a finished run)."""
+    if (out / "summary.json").is_file():
+        return
+    cmd = [sys.executable, "-m", "pair2scene", "generate", *args, "--threads", "1",
+           "--out", str(out)]  # fmt: skip
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--pairs", type=Path, required=True, help="pair2scene curate folder")
+    p.add_argument("--blocks", type=int, default=4)
+    p.add_argument("--scenes", type=int, default=30, help="rooms a block")
+    p.add_argument("--rooms", nargs="+", default=["bedroom", "living_room", "kitchen"])
+    p.add_argument("--work", type=Path, default=Path("/tmp/p2s-pose-pooled"))
+    p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--no-write", action="store_true", help="print the table only")
+    a = p.parse_args()
+
+    from pair2scene.evaluate import load_reference, load_scene_folder
+    from pair2scene.metrics.distribution import pose_mmd
+
+    methods = {"ours (fit)": [], "gaussian": ["--model", f"gaussian:{a.pairs}"]}
+    jobs = []
+    for name, extra in methods.items():
+        for room in a.rooms:
+            for b in range(a.blocks):
+                seed = b * a.scenes
+                args = ["--room", room, "--num", str(a.scenes), "--seed", str(seed), *extra]
+                jobs.append((args, block_folder(a.work, name.split()[0], room, seed)))
+    with ThreadPoolExecutor(a.jobs) as pool:
+        list(pool.map(lambda job: generate(*job), jobs))
+
+    lines = [
+        f"| pose MMD, {a.blocks} x {a.scenes} rooms | "
+        + " | ".join(f"{r}: blocks | pooled" for r in a.rooms)
+        + " |",
+        "|---|" + "---|---|" * len(a.rooms),
+    ]
+    references = {
+        r: load_reference(["ai2thor:val", f"procthor:{PROCTHOR_VAL}"], [r]) for r in a.rooms
+    }
+    for name in methods:
+        cells = []
+        for room in a.rooms:
+            blocks = [
+                load_scene_folder(block_folder(a.work, name.split()[0], room, b * a.scenes))
+                for b in range(a.blocks)
+            ]
+            each = [pose_mmd(references[room], scenes)["mean"] for scenes in blocks]
+            pooled = pose_mmd(references[room], [s for scenes in blocks for s in scenes])["mean"]
+            cells += [" / ".join(f"{v:.3f}" for v in each), f"{pooled:.3f}"]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    table = "\n".join(lines)
+    print(table)
+    if a.no_write:
+        return
+    text = DOC.read_text()
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        text = head + BEGIN + "\n" + table + "\n" + END + rest.split(END, 1)[1]
+    else:
+        print(f"docs/results.md has no {BEGIN} ... {END} markers: table not written")
+        return
+    DOC.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
