@@ -344,7 +344,7 @@ class AssemblyConfig:
     objects of its category that had one, and an object without one (a chair in a room
     with no table) at the shares of those standing alone
     (:meth:`~pair2scene.assembly.walls.WallRules.rate`'s ``anchored``; kitchen chairs 0.21
-    and 0.73 against a wall, bedroom chairs 0.14 and 0.78, living-room floor lamps 0.27
+    and 0.80 against a wall, bedroom chairs 0.15 and 0.75, living-room floor lamps 0.27
     and 0.87). False: one share per category, and a lone chair stood mid-room as often as
     a chair at a table stands away from the walls. Needs ``walls``."""
     wall_spacing: bool = True

@@ -113,8 +113,9 @@ class WallRules:
         ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
         statistics counted enough of that form in ``room_type`` (:data:`MIN_FORM_OBJECTS`).
         With ``anchored`` (True: the object's functional anchor stands in the room; False:
-        it has none), the share of those objects of the category alone, where enough were
-        counted (:data:`MIN_SPLIT_OBJECTS`): a kitchen chair at a table 0.21, alone 0.73."""
+        it has none), the share of the category's objects with an anchor, or of those
+        alone, where enough were counted (:data:`MIN_SPLIT_OBJECTS`): a kitchen chair at a
+        table 0.21, alone 0.80."""
         return _share(self.rates, room_type, category, size, anchored)
 
     def against_wall(
