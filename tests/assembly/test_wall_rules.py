@@ -158,23 +158,31 @@ def test_placement_stands_a_chair_without_its_table_at_the_share_of_chairs_alone
     no table in its room stands against a wall every time, unless the split is off."""
     pytest.importorskip("torch")
     from pair2scene.assembly.place import AssemblyConfig, Placer
-    from pair2scene.hierarchy.tree import Hierarchy
     from pair2scene.model import from_pretrained
-    from pair2scene.scene.walls import face_contacts
 
     rules = WallRules(rates={"kitchen": {"chair": (5, 10), "chair~anchored": (0, 5)}})
     assert rules.rate("kitchen", "chair", anchored=False) == 1.0
     config = AssemblyConfig(split_wall_rates=split, corners=False, sideways=False)
     placer = Placer(from_pretrained(), config=config, walls=rules)
     room = Room("kitchen", np.array([[0, 0], [5, 0], [5, 4], [0, 4]], float))
-    walls = walls_of(room.floor_polygon)
-    against = []
-    for seed in range(8):
-        h = Hierarchy("kitchen")
-        h.add("chair", FLOOR)
-        (chair,) = placer.place(h.validate(), room, seed=seed).scene.objects
-        against.append(bool(face_contacts(chair.box, walls)))
+    against = [bool(faces) for faces in _faces_placed_alone(placer, room, "chair", 8)]
     assert all(against) if split else not all(against)
+
+
+def _faces_placed_alone(placer, room: Room, category: str, seeds: int) -> list[set[str]]:
+    """The faces against a wall of one ``category`` object placed alone in ``room``, for
+    seeds 0 .. seeds-1."""
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.walls import face_contacts
+
+    walls = walls_of(room.floor_polygon)
+    out = []
+    for seed in range(seeds):
+        h = Hierarchy(room.type)
+        h.add(category, FLOOR)
+        (obj,) = placer.place(h.validate(), room, seed=seed).scene.objects
+        out.append({c.face for c in face_contacts(obj.box, walls)})
+    return out
 
 
 @pytest.mark.parametrize("closed", [True, False])
@@ -186,9 +194,7 @@ def test_a_shower_cubicle_stands_in_the_corner_at_its_left(closed):
     from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.assets.forms import closed_by_walls
     from pair2scene.assets.registry import generate
-    from pair2scene.hierarchy.tree import Hierarchy
     from pair2scene.model import from_pretrained
-    from pair2scene.scene.walls import face_contacts
 
     cubicle = generate("shower", np.array([1.1, 2.2, 2.0]), 3)
     assert closed_by_walls("shower", cubicle.size)
@@ -202,13 +208,7 @@ def test_a_shower_cubicle_stands_in_the_corner_at_its_left(closed):
     config = AssemblyConfig(closed_by_walls=closed)
     placer = Given(from_pretrained(), config=config, walls=rules)
     room = Room("bathroom", np.array([[0, 0], [4, 0], [4, 3.5], [0, 3.5]], float))
-    walls = walls_of(room.floor_polygon)
-    faces = []
-    for seed in range(4):
-        h = Hierarchy("bathroom")
-        h.add("shower", FLOOR)
-        (shower,) = placer.place(h.validate(), room, seed=seed).scene.objects
-        faces.append({c.face for c in face_contacts(shower.box, walls)})
+    faces = _faces_placed_alone(placer, room, "shower", 4)
     if closed:
         assert all({"back", "left"} <= f for f in faces)
     else:
