@@ -88,3 +88,28 @@ def test_pose_rotation_is_applied():
     assert world.colliding(crossing, ["bar"]) == ["bar"]
     lifted = posed(bar, [0, 0, 0.5], rot_x(0.3))
     assert world.colliding(lifted, ["bar"]) == []
+
+
+def test_a_growing_box_set_holds_the_rows_of_one_made_at_once():
+    """Boxes added one at a time (past the first capacity) give the same arrays, bit for
+    bit, as the set made of them all at once; a snapshot keeps what it held."""
+    from pair2scene.assembly.collision import BoxSet
+    from pair2scene.scene.geometry import yaw_to_matrix
+
+    rng = np.random.default_rng(0)
+    centers = rng.uniform(-3, 3, (150, 3))
+    halves = rng.uniform(0.05, 1.0, (150, 3))
+    rots = np.stack([yaw_to_matrix(y) for y in rng.uniform(-np.pi, np.pi, 150)])
+    grown = BoxSet.growing(0.002, capacity=4)
+    for i in range(100):
+        grown.add(centers[i], halves[i], rots[i])
+    early = grown.snapshot()
+    for i in range(100, 150):
+        grown.add(centers[i], halves[i], rots[i])
+    whole = BoxSet(centers, halves, rots, 0.002)
+    for name in ("centers", "halves", "rots", "extents"):
+        assert np.array_equal(getattr(grown, name), getattr(whole, name))
+        assert np.array_equal(getattr(early, name), getattr(whole, name)[:100])
+    probe = (centers[:20] + 0.1, halves[:20], rots[:20])
+    assert np.array_equal(grown.overlaps(*probe), whole.overlaps(*probe))
+    assert grown.overlaps(*probe).any() and not grown.overlaps(*probe).all()

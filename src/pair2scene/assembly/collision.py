@@ -100,6 +100,44 @@ class BoxSet:
     def __len__(self) -> int:
         return len(self.centers)
 
+    @classmethod
+    def growing(cls, margin: float = 0.0, capacity: int = 64) -> BoxSet:
+        """An empty set to :meth:`add` boxes to one at a time (placement's placed objects:
+        each new object is tested against all before it, and restacking them all for each
+        one made the work grow with the square of the objects)."""
+        out = cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3, 3)), margin)
+        out._rows = {
+            "centers": np.zeros((capacity, 3)), "halves": np.zeros((capacity, 3)),
+            "rots": np.zeros((capacity, 3, 3)), "extents": np.zeros((capacity, 3)),
+        }  # fmt: skip
+        return out
+
+    def add(self, center: np.ndarray, half: np.ndarray, rot: np.ndarray) -> None:
+        """Keep one more box (a set made by :meth:`growing`): the same rows as a set made
+        of all the boxes at once."""
+        row = BoxSet(center, half, rot, self.margin)
+        m = len(self.centers)
+        if m == len(self._rows["centers"]):  # full: twice the room
+            self._rows = {k: np.concatenate([v, np.zeros_like(v)]) for k, v in self._rows.items()}
+        for name in self._rows:
+            self._rows[name][m] = getattr(row, name)[0]
+        self.centers, self.halves, self.rots, self.extents = (
+            self._rows[name][: m + 1] for name in ("centers", "halves", "rots", "extents")
+        )
+
+    def snapshot(self) -> BoxSet:
+        """The boxes kept so far, as a set of their own that later :meth:`add` calls leave
+        as it is (it shares their rows)."""
+        out = BoxSet.__new__(BoxSet)
+        out.margin = self.margin
+        out.centers, out.halves, out.rots, out.extents = (
+            self.centers,
+            self.halves,
+            self.rots,
+            self.extents,
+        )
+        return out
+
     def overlaps(self, centers: np.ndarray, halves: np.ndarray, rots: np.ndarray) -> np.ndarray:
         """(N, M) whether each of N boxes (shrunk by the same margin) overlaps each kept
         one."""

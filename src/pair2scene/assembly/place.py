@@ -668,12 +668,14 @@ class Placer:
         hung: set[str] = set()  # ids of the placed objects on a wall
         floor_ids: list[str] = []  # those on the floor
         shown: list[tuple[str, OrientedBox, Wall]] = []  # those nothing may cover (not curtains)
+        stacked = BoxSet.growing(cfg.tolerances.box_margin)  # the boxes of ``placed``, in order
         for obj in keep or []:
             asset = keep_assets[obj.id]
             shape = Shape(asset)
             shape.set_pose(obj.box.rotation, obj.box.center)
             world.add(obj.id, shape)
             placed[obj.id] = _Placed(obj.box, asset)
+            stacked.add(obj.box.center, obj.box.half_size, obj.box.rotation)
             objects.append(obj)
             if obj.support == FLOOR:
                 floor_ids.append(obj.id)
@@ -802,7 +804,7 @@ class Placer:
             snap = cfg.snap_yaw_deg if on_floor_ else cfg.snap_yaw_support_deg
             shape = Shape(asset)
             ids = list(placed)  # fixed while this object's candidates are tried
-            others = _stack([placed[i].box for i in ids], cfg.tolerances.box_margin)
+            others = stacked.snapshot()
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
@@ -989,6 +991,7 @@ class Placer:
             shape.set_pose(box.rotation, box.center)
             world.add(node.id, shape)
             placed[node.id] = _Placed(box, asset)
+            stacked.add(box.center, box.half_size, box.rotation)
             if item.support == FLOOR:
                 floor_ids.append(node.id)
                 if guard is not None:

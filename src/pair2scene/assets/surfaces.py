@@ -37,6 +37,7 @@ from functools import cached_property
 import numpy as np
 
 from pair2scene.assets.mesh import CONVEX_TOL, Asset, Mesh
+from pair2scene.scene.geometry import following
 
 NORMAL_TOL_DEG = 10.0
 """A face tilted up to this far from horizontal still holds things: a seat tilted back
@@ -798,7 +799,7 @@ def _weighted_percentile(values: np.ndarray, weights: np.ndarray, q: float) -> f
 
 def _point_in_polygon(xy: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """(M,) even-odd test of points (M, 2) against a ring (N, 2)."""
-    a, b = poly, np.roll(poly, -1, 0)
+    a, b = poly, following(poly)
     x, y = xy[:, :1], xy[:, 1:]
     crosses = (a[:, 1] > y) != (b[:, 1] > y)
     with np.errstate(divide="ignore", invalid="ignore"):

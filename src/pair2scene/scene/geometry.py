@@ -10,6 +10,7 @@ by Gram-Schmidt. All functions are vectorised over leading dimensions.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -181,9 +182,13 @@ class OrientedBox:
     def yaw(self) -> float:
         return float(matrix_to_yaw(self.rotation))
 
-    @property
+    @cached_property
     def half_size(self) -> np.ndarray:
-        return self.size / 2.0
+        """Half the size (3,), read-only (worked out once a box: placement asks a box for
+        it thousands of times a scene)."""
+        half = self.size / 2.0
+        half.setflags(write=False)
+        return half
 
     @property
     def transform(self) -> np.ndarray:
@@ -210,9 +215,16 @@ class OrientedBox:
         return (np.asarray(points, dtype=float) - self.center) @ self.rotation
 
     def aabb(self) -> tuple[np.ndarray, np.ndarray]:
-        """World axis-aligned bounds: (min (3,), max (3,))."""
+        """World axis-aligned bounds: (min (3,), max (3,)), read-only."""
+        return self._bounds
+
+    @cached_property
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         extent = np.abs(self.rotation) @ self.half_size
-        return self.center - extent, self.center + extent
+        low, high = self.center - extent, self.center + extent
+        low.setflags(write=False)
+        high.setflags(write=False)
+        return low, high
 
     @property
     def bottom(self) -> float:
@@ -296,7 +308,14 @@ def polygon_area(polygon: ArrayLike) -> float:
     """Signed area of a 2D polygon (N, 2); positive when counter-clockwise."""
     p = np.asarray(polygon, dtype=float)
     x, y = p[:, 0], p[:, 1]
-    return float(0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+    return float(0.5 * (np.dot(x, following(y)) - np.dot(y, following(x))))
+
+
+def following(values: np.ndarray) -> np.ndarray:
+    """Each row's next one along the first axis, the last's being the first:
+    ``np.roll(values, -1, axis=0)``, the same values, without its general machinery (a
+    polygon's edges end there; placement asks for thousands a scene)."""
+    return np.concatenate((values[1:], values[:1]))
 
 
 def points_in_polygon(points: ArrayLike, polygon: ArrayLike) -> np.ndarray:

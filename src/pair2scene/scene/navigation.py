@@ -62,7 +62,12 @@ import numpy as np
 from scipy import ndimage
 
 from pair2scene.errors import UserError, check_ranges
-from pair2scene.scene.geometry import OrientedBox, convex_hull_2d, points_in_polygon
+from pair2scene.scene.geometry import (
+    OrientedBox,
+    convex_hull_2d,
+    following,
+    points_in_polygon,
+)
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
 from pair2scene.scene.walls import walls_of
 
@@ -135,7 +140,7 @@ def footprint_polygon(box: OrientedBox) -> np.ndarray:
         hx, hy = box.half_size[:2]
         local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
         pts = local @ rot[:2, :2].T + box.center[:2]
-        a = pts[:, 0] * np.roll(pts[:, 1], -1) - pts[:, 1] * np.roll(pts[:, 0], -1)
+        a = pts[:, 0] * following(pts[:, 1]) - pts[:, 1] * following(pts[:, 0])
         return pts if a.sum() >= 0 else pts[::-1].copy()
     return np.array(convex_hull_2d(box.corners()[:, :2]), dtype=float)
 
@@ -165,7 +170,7 @@ def _overlap_depth(p: np.ndarray, q: np.ndarray) -> float:
     """Least penetration of two convex polygons over their edge normals (<= 0: apart)."""
     depth = np.inf
     for poly in (p, q):
-        edges = np.roll(poly, -1, axis=0) - poly
+        edges = following(poly) - poly
         normals = np.stack([-edges[:, 1], edges[:, 0]], 1)
         norms = np.linalg.norm(normals, axis=1)
         normals = normals[norms > 1e-12] / norms[norms > 1e-12, None]

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pair2scene.scene.geometry import OrientedBox
+from pair2scene.scene.geometry import OrientedBox, following
 from pair2scene.scene.navigation import footprint_polygon as footprint
 
 FACING_MAX_DEG = 45.0
@@ -39,7 +39,7 @@ def _closest_on_segments(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.
 
 def _inside_convex(point: np.ndarray, poly: np.ndarray) -> bool:
     """Whether ``point`` lies in the counter-clockwise convex polygon ``poly``."""
-    e = np.roll(poly, -1, axis=0) - poly
+    e = following(poly) - poly
     r = point - poly
     return bool(np.all(e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0] >= -1e-12))
 
@@ -49,7 +49,7 @@ def nearest_point(point: np.ndarray, poly: np.ndarray) -> np.ndarray:
     point = np.asarray(point, float)
     if _inside_convex(point, poly):
         return point
-    near = _closest_on_segments(point, poly, np.roll(poly, -1, axis=0))
+    near = _closest_on_segments(point, poly, following(poly))
     return near[np.argmin(np.linalg.norm(near - point, axis=1))]
 
 
@@ -57,7 +57,7 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
     """Distance between two convex polygons (counter-clockwise, (N, 2)); 0 when they
     overlap."""
     for p, q in ((a, b), (b, a)):  # separating axis: the edge normals of both
-        e = np.roll(p, -1, axis=0) - p
+        e = following(p) - p
         n = np.stack([e[:, 1], -e[:, 0]], axis=1)
         if np.any((q @ n.T).min(axis=0) > np.einsum("ij,ij->i", p, n) + 1e-12):
             break
@@ -65,7 +65,7 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
         return 0.0
     best = np.inf
     for p, q in ((a, b), (b, a)):  # apart: the closest pair has a vertex of one of them
-        q1 = np.roll(q, -1, axis=0)
+        q1 = following(q)
         for v in p:
             near = _closest_on_segments(v, q, q1)
             best = min(best, float(np.linalg.norm(near - v, axis=1).min()))
