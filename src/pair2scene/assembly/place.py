@@ -336,7 +336,7 @@ class AssemblyConfig:
     cubicle: nothing at its back and left, :func:`~pair2scene.assets.forms.closed_by_walls`)
     always stands with its back to a wall, each candidate first tried slid into the corner
     at its left, then as drawn along the wall. False: the wall rules' draw, as for any
-    shower (10 of 12 of the training rooms' against a wall), and 2 of 10 fit bathrooms
+    shower (10 of 12 of the training rooms' against a wall), and 2 of 30 fit bathrooms
     had a cubicle open mid-room."""
     split_wall_rates: bool = True
     """A floor object whose functional anchor stands in the room (a chair at its table)
