@@ -81,3 +81,17 @@ def test_wall_frame_puts_the_wall_at_y_zero_and_metres_inward():
     assert local.center[0] == pytest.approx(1.0 / 2)  # 1 m right of the wall's midpoint / half
     assert local.center[2] * 1.35 == pytest.approx(0.3 - 1.35)
     assert local.yaw == pytest.approx(0.0, abs=1e-9)  # facing into the room
+
+
+def test_face_contacts_of_the_faces_asked_are_those_of_all_faces():
+    """Asking one face gives the same contacts (the same numbers) as asking all of them and
+    keeping that face's: placement asks the back first."""
+    from pair2scene.scene.walls import FACES, face_contacts, walls_of
+
+    walls = walls_of(np.array([[0, 0], [4, 0], [4, 3], [0, 3]], float))
+    corner = OrientedBox.from_yaw([0.3, 2.7, 0.4], [0.6, 0.6, 0.8], np.pi)  # in the corner
+    every = face_contacts(corner, walls)
+    assert sorted(c.face for c in every) == ["back", "right"]
+    for face in FACES:
+        assert face_contacts(corner, walls, faces=(face,)) == [c for c in every if c.face == face]
+    assert face_contacts(corner, walls, faces=()) == []

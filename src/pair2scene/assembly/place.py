@@ -107,7 +107,7 @@ from pair2scene.scene.model import (
 )
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
 from pair2scene.scene.relations import faces
-from pair2scene.scene.walls import Wall, convex_ends, wall_contact, walls_of
+from pair2scene.scene.walls import Wall, convex_ends, face_contacts, wall_contact, walls_of
 
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
@@ -1276,11 +1276,13 @@ class Placer:
             reason = ctx.anchor.reason(box, ctx.wall)
             if reason is not None:
                 return reason, []
-        if ctx.wall is not None:
+        if ctx.wall is not None and not face_contacts(box, [ctx.wall], faces=("back",)):
+            # (its back against the wall, the usual case, is all :func:`wall_contact`
+            # would have preferred: only without it are the other faces asked)
             contact = wall_contact(box, [ctx.wall])
             if contact is None:
                 return "off_wall", []  # pushed off the wall it was drawn against
-            if contact.face != "back" and not ctx.sideways:
+            if not ctx.sideways:
                 return "side_to_wall", []  # the wall rules drew it back to the wall
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
         if ctx.mount is None and ctx.doors[0]:  # (what rests on a table may overhang it)

@@ -154,8 +154,10 @@ def face_contacts(
     max_gap: float = AGAINST_GAP_M,
     max_angle: float = AGAINST_ANGLE_DEG,
     min_overlap: float = MIN_OVERLAP,
+    faces: tuple[str, ...] = FACES,
 ) -> list[WallContact]:
-    """Every (face, wall) pair of ``box`` that stands against each other, closest first."""
+    """Every (face, wall) pair of ``box`` that stands against each other, closest first;
+    only the ``faces`` asked."""
     rot = box.rotation[:2, :2]
     half = box.half_size
     center = box.center[:2]
@@ -164,6 +166,8 @@ def face_contacts(
     cos_floor = math.cos(math.radians(max_angle)) - 1e-9 if max_angle < 180 else -math.inf
     out = []
     for face, local_normal in _FACE_NORMALS.items():
+        if face not in faces:
+            continue
         n = rot @ local_normal  # outward normal of the face, world xy
         n_len = float(np.linalg.norm(n))
         if n_len < 0.5:  # not upright enough to have vertical faces
