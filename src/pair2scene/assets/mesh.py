@@ -14,6 +14,8 @@ from functools import cached_property
 
 import numpy as np
 
+from pair2scene.scene.geometry import polygon_area
+
 ArrayLike = np.typing.ArrayLike
 
 CONVEX_TOL = 1e-6
@@ -301,7 +303,7 @@ def ellipsoid(
 def prism(polygon: ArrayLike, z0: float, z1: float) -> Mesh:
     """Extrude a convex 2D polygon (N, 2), counter-clockwise, from z0 to z1."""
     p = np.asarray(polygon, dtype=float)
-    if _signed_area(p) < 0:
+    if polygon_area(p) < 0:
         p = p[::-1]
     n = len(p)
     v = np.concatenate([np.c_[p, np.full(n, z0)], np.c_[p, np.full(n, z1)]])
@@ -328,8 +330,3 @@ def hull(points: ArrayLike) -> Mesh:
     faces[flip] = faces[flip][:, ::-1]
     used, inverse = np.unique(faces, return_inverse=True)
     return Mesh(pts[used], inverse.reshape(-1, 3))
-
-
-def _signed_area(p: np.ndarray) -> float:
-    x, y = p[:, 0], p[:, 1]
-    return float(0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))

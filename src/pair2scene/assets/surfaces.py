@@ -37,7 +37,7 @@ from functools import cached_property
 import numpy as np
 
 from pair2scene.assets.mesh import CONVEX_TOL, Asset, Mesh
-from pair2scene.scene.geometry import following
+from pair2scene.scene.geometry import following, polygon_area
 
 NORMAL_TOL_DEG = 10.0
 """A face tilted up to this far from horizontal still holds things: a seat tilted back
@@ -545,7 +545,7 @@ def _level_surfaces(
         loops = _trace(
             mask, xs[cols.start : cols.stop + 1], ys[rows.start : rows.stop + 1], max_cell
         )
-        signed = [_signed_area(p) for p in loops]
+        signed = [polygon_area(p) for p in loops]
         outer = int(np.argmax(signed))
         holes = tuple(p for p, s in zip(loops, signed) if s < 0)
         out.append(
@@ -782,12 +782,6 @@ def _simplify_open(p: np.ndarray, tol: float) -> np.ndarray:
             keep[k] = True
             stack += [(i, k), (k, j)]
     return p[keep]
-
-
-def _signed_area(p: np.ndarray) -> float:
-    x, y = p[:, 0], p[:, 1]
-    x1, y1 = np.concatenate([x[1:], x[:1]]), np.concatenate([y[1:], y[:1]])
-    return float(0.5 * (np.dot(x, y1) - np.dot(y, x1)))
 
 
 def _weighted_percentile(values: np.ndarray, weights: np.ndarray, q: float) -> float:

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from pair2scene.assets.forms import SHOWER_THIN_M
+from pair2scene.assets.forms import closed_by_walls
 from pair2scene.assets.generators.shapes import (
     FINE_SEGMENTS,
     ROD_SEGMENTS,
@@ -515,7 +515,7 @@ def shower(
     """Shower: style 0 glass, style 1 curtain. A box deep in x and y is a cubicle (tray,
     enclosure, head on the -y wall); a thin one is a door panel or a curtain."""
     sx, sy, sz = size
-    if min(sx, sy) >= SHOWER_THIN_M:
+    if closed_by_walls("shower", size):  # the cubicle placement stands in its corner
         return _shower_cubicle(size, rng, style)
     if sy <= sx:
         return _shower_panel(size, rng, style)
