@@ -24,10 +24,11 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-DOC = ROOT / "docs" / "results.md"
-PROCTHOR_VAL = ROOT.parent / "shared" / "data" / "procthor-1k" / "val.jsonl.gz"
+from results import DOC, PROCTHOR_VAL, ROOMS, methods
+
 BEGIN, END = "<!-- pose-pooled -->", "<!-- /pose-pooled -->"
+COMPARED = ("ours (fit)", "gaussian")
+"""The methods of docs/results.md measured here (:func:`results.methods`' names)."""
 
 
 def block_folder(work: Path, method: str, room: str, seed: int) -> Path:
@@ -48,18 +49,20 @@ def main() -> None:
     p.add_argument("--pairs", type=Path, required=True, help="pair2scene curate folder")
     p.add_argument("--blocks", type=int, default=4)
     p.add_argument("--scenes", type=int, default=30, help="rooms a block")
-    p.add_argument("--rooms", nargs="+", default=["bedroom", "living_room", "kitchen"])
+    p.add_argument("--rooms", nargs="+", default=list(ROOMS))
     p.add_argument("--work", type=Path, default=Path("/tmp/p2s-pose-pooled"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--no-write", action="store_true", help="print the table only")
     a = p.parse_args()
 
     from pair2scene.evaluate import load_reference, load_scene_folder
+    from pair2scene.io.atomic import atomic_write_text
     from pair2scene.metrics.distribution import pose_mmd
 
-    methods = {"ours (fit)": [], "gaussian": ["--model", f"gaussian:{a.pairs}"]}
+    described = methods(a.pairs, Path())  # (no model variant is run here)
+    compared = {name: described[name][0] for name in COMPARED}
     jobs = []
-    for name, extra in methods.items():
+    for name, extra in compared.items():
         for room in a.rooms:
             for b in range(a.blocks):
                 seed = b * a.scenes
@@ -77,7 +80,7 @@ def main() -> None:
     references = {
         r: load_reference(["ai2thor:val", f"procthor:{PROCTHOR_VAL}"], [r]) for r in a.rooms
     }
-    for name in methods:
+    for name in compared:
         cells = []
         for room in a.rooms:
             blocks = [
@@ -99,7 +102,7 @@ def main() -> None:
     else:
         print(f"docs/results.md has no {BEGIN} ... {END} markers: table not written")
         return
-    DOC.write_text(text)
+    atomic_write_text(DOC, text)
 
 
 if __name__ == "__main__":
