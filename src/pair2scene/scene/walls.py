@@ -249,6 +249,5 @@ def against_wall(
     ``max_gap`` of it, or beyond its plane by up to :data:`EMBEDDED_M` (a box that reaches
     into the wall)."""
     reach = max(max_gap, EMBEDDED_M)
-    return any(
-        c.face == "back" and c.gap <= max_gap for c in face_contacts(box, walls, reach, max_angle)
-    )
+    backs = face_contacts(box, walls, reach, max_angle, faces=("back",))
+    return any(c.gap <= max_gap for c in backs)
