@@ -169,27 +169,34 @@ def test_placement_stands_a_chair_without_its_table_at_the_share_of_chairs_alone
     assert all(against) if split else not all(against)
 
 
-def _faces_placed_alone(placer, room: Room, category: str, seeds: int) -> list[set[str]]:
-    """The faces against a wall of one ``category`` object placed alone in ``room``, for
-    seeds 0 .. seeds-1."""
+def _placed_alone(placer, room: Room, category: str, seeds: int) -> list[SceneObject]:
+    """One ``category`` object placed alone in ``room``, for seeds 0 .. seeds-1."""
     from pair2scene.hierarchy.tree import Hierarchy
-    from pair2scene.scene.walls import face_contacts
 
-    walls = walls_of(room.floor_polygon)
     out = []
     for seed in range(seeds):
         h = Hierarchy(room.type)
         h.add(category, FLOOR)
         (obj,) = placer.place(h.validate(), room, seed=seed).scene.objects
-        out.append({c.face for c in face_contacts(obj.box, walls)})
+        out.append(obj)
     return out
+
+
+def _faces_placed_alone(placer, room: Room, category: str, seeds: int) -> list[set[str]]:
+    """The faces against a wall of one ``category`` object placed alone in ``room``, for
+    seeds 0 .. seeds-1."""
+    from pair2scene.scene.walls import face_contacts
+
+    walls = walls_of(room.floor_polygon)
+    return [{c.face for c in face_contacts(o.box, walls)}
+            for o in _placed_alone(placer, room, category, seeds)]  # fmt: skip
 
 
 @pytest.mark.parametrize("closed", [True, False])
 def test_a_shower_cubicle_stands_in_the_corner_at_its_left(closed):
     """Wall rules that stand no shower against a wall: a cubicle (built with nothing at
     its back and left) still stands with its back to one wall and its left to the next,
-    unless the rule is off; a thin shower panel is left to the rules."""
+    unless the rule is off; a thin shower panel is no cubicle."""
     pytest.importorskip("torch")
     from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.assets.forms import closed_by_walls
@@ -213,3 +220,43 @@ def test_a_shower_cubicle_stands_in_the_corner_at_its_left(closed):
         assert all({"back", "left"} <= f for f in faces)
     else:
         assert not all({"back", "left"} <= f for f in faces)
+
+
+@pytest.mark.parametrize("rule", [True, False])
+@pytest.mark.parametrize("size", [[0.9, 0.06, 2.0], [0.07, 1.0, 2.0]])
+def test_a_shower_panel_stands_across_a_wall_near_its_corner(rule, size):
+    """Wall rules that stand no shower against a wall: a thin shower panel, thin in x or
+    in y, still stands with an end (never a long face) to a wall, its long faces 0.55 to
+    1.2 m from the walls parallel to them (the shower area it closes off), unless the rule
+    is off."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import ENCLOSURE_M, AssemblyConfig, Placer
+    from pair2scene.assets.forms import end_to_wall
+    from pair2scene.assets.registry import generate
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.walls import face_contacts
+
+    panel = generate("shower", np.array(size), 3)
+    assert end_to_wall("shower", panel.size)
+    assert not end_to_wall("shower", [1.1, 2.2, 2.0]) and not end_to_wall("bed", size)
+
+    class Given(Placer):  # the panel, whatever the size table would draw
+        def assets_for(self, hierarchy, seed, given=None):
+            return {"shower_0": panel}
+
+    rules = WallRules(rates={"bathroom": {"shower": (0, 10)}})
+    placer = Given(from_pretrained(), config=AssemblyConfig(end_to_wall=rule), walls=rules)
+    room = Room("bathroom", np.array([[0, 0], [4, 0], [4, 3.5], [0, 3.5]], float))
+    walls = walls_of(room.floor_polygon)
+    ends = ("back", "front") if size[0] < size[1] else ("left", "right")
+    right = []
+    for obj in _placed_alone(placer, room, "shower", 4):
+        touching = face_contacts(obj.box, walls)
+        parallel = face_contacts(obj.box, walls, max_gap=2.0, min_overlap=0.0)
+        long_gaps = [c.gap for c in parallel if c.face not in ends]
+        right.append(
+            bool(touching)
+            and all(c.face in ends for c in touching)
+            and ENCLOSURE_M[0] - 0.02 <= min(long_gaps) <= ENCLOSURE_M[1] + 0.02
+        )
+    assert all(right) if rule else not all(right)

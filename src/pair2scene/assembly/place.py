@@ -86,7 +86,7 @@ from pair2scene.assembly.walls import (
     wall_order,
     within_reach,
 )
-from pair2scene.assets.forms import closed_by_walls
+from pair2scene.assets.forms import closed_by_walls, end_to_wall
 from pair2scene.assets.identity import asset_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
@@ -124,6 +124,14 @@ CLOSED_CORNER_TRIES = 16
 :attr:`AssemblyConfig.closed_by_walls`), candidates slid into its corner that may fail
 before it is tried as drawn along its wall instead: until then it is tried in the corner
 only."""
+ENCLOSURE_M = (0.55, 1.2)
+"""How far a shower panel standing across a wall (:attr:`AssemblyConfig.end_to_wall`) is
+tried from the corner of its wall (m; drawn uniformly per panel): the shower area it
+closes off. AI2-THOR's panels stand 0.53 to 1.23 m from the wall parallel to them (10
+measured, median 0.9)."""
+ALONG_WALL_M = 0.5
+"""A shower panel whose long face comes this close to a wall (parallel to it, within
+15 degrees) is rejected (``along_wall``): it closes nothing off."""
 PLACEMENT_STREAM = 0x9A1E
 """Second word of the seed of a placement's generator (``[seed, PLACEMENT_STREAM]``):
 its draws are a stream of their own, apart from the asset draws seeded by
@@ -338,6 +346,12 @@ class AssemblyConfig:
     at its left, then as drawn along the wall. False: the wall rules' draw, as for any
     shower (10 of 12 of the training rooms' against a wall), and 2 of 30 fit bathrooms
     had a cubicle open mid-room."""
+    end_to_wall: bool = True
+    """A thin shower panel (a glass door or a curtain,
+    :func:`~pair2scene.assets.forms.end_to_wall`) always stands across a wall, an end to
+    it: its back when its box is thin in x, else turned sideways. False: the wall rules'
+    draw, as for any shower, and of the 13 thin panels of 30 fit bathrooms 4 stood
+    mid-room and 5 had a long face to a wall."""
     split_wall_rates: bool = True
     """A floor object whose functional anchor stands in the room (a chair at its table)
     stands against a wall, in a corner and sideways at the shares of the training rooms'
@@ -782,12 +796,20 @@ class Placer:
             queries = [(query, None)]
             turned = False  # stands sideways to its wall, if it stands against one
             cornered = False  # stands in the corner at its left (a shower cubicle)
+            across_wall = False  # stands with an end to its wall (a shower panel)
+            enclosure = 0.0  # ... that far from the corner of its wall
             if item.support == FLOOR:
                 cornered = cfg.closed_by_walls and closed_by_walls(node.category, asset.size)
-                turned = (node.id not in backed and not cornered and self._sideways(
-                    node, room, seed, asset.size, self._anchored(functional)
-                ))  # fmt: skip
-                backs = node.id in backed or cornered
+                across_wall = cfg.end_to_wall and end_to_wall(node.category, asset.size)
+                if across_wall:  # its ends: its back and front, or its sides
+                    turned = bool(asset.size[1] < asset.size[0])
+                    enclosure = float(np.random.default_rng([asset_seed(node.id, seed), 193])
+                                      .uniform(*ENCLOSURE_M))  # fmt: skip
+                else:
+                    turned = (node.id not in backed and not cornered and self._sideways(
+                        node, room, seed, asset.size, self._anchored(functional)
+                    ))  # fmt: skip
+                backs = node.id in backed or cornered or across_wall
                 queries = self._wall_queries(query, node, room, placed, seed, check,
                                              backs, turned) or queries  # fmt: skip
             elif mounted:
@@ -831,15 +853,18 @@ class Placer:
             hung_across = None if node.id not in across or functional is None else functional.box
             along_wall = on_floor_ and framed and queries[0][1] is not None
             context.sideways = along_wall and turned
+            context.end_to_wall = across_wall
+            context.enclosure = enclosure
             context.left_corner = cornered
             ends = None  # the room's convex corners, when this object stands in one
             if (
                 along_wall
                 and cfg.corners
-                and not context.sideways
+                and (not context.sideways or across_wall)
                 and self.walls is not None
                 and (
                     cornered
+                    or across_wall
                     or self.walls.in_corner(
                         room.type,
                         node.category,
@@ -1262,7 +1287,8 @@ class Placer:
         "off_wall": no longer against the wall it was drawn against, "side_to_wall": a
         side, not its back, against it when the wall rules did not turn it sideways
         (:meth:`_sideways`; the data's share of sideways objects is drawn there, not left
-        to the model's yaw), "door", "overlap" (over or under another floor object's
+        to the model's yaw), "along_wall": a shower panel's long face at a wall
+        (:attr:`_Context.end_to_wall`), "door", "overlap" (over or under another floor object's
         footprint, :attr:`AssemblyConfig.separate_footprints`: tested before the meshes,
         a cheaper test whose push clears the meshes too), "collision", "blocks_path") and
         what it hits (the doors' indices, the objects' ids)."""
@@ -1284,6 +1310,11 @@ class Placer:
                 return "off_wall", []  # pushed off the wall it was drawn against
             if not ctx.sideways:
                 return "side_to_wall", []  # the wall rules drew it back to the wall
+        if ctx.end_to_wall and face_contacts(
+            box, walls_of(ctx.room.floor_polygon), ALONG_WALL_M,
+            faces=("back", "front") if ctx.sideways else ("left", "right"),
+        ):  # fmt: skip
+            return "along_wall", []  # a panel lying along a wall closes nothing off
         center, half, rot = box.center[None], box.half_size[None], box.rotation[None]
         if ctx.mount is None and ctx.doors[0]:  # (what rests on a table may overhang it)
             doors = ctx.doors[1].overlaps(center, half, rot)[0]
@@ -1348,6 +1379,16 @@ def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | N
     turned to stand sideways to its wall (:attr:`_Context.sideways`); moved onto its
     pinned spot on its support (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`);
     then as drawn."""
+    if ctx.end_to_wall and ctx.wall is not None:
+        # a panel: its end to the wall (turned, when its sides are its ends), tried its
+        # enclosure's depth from each corner of the wall, then where drawn
+        panel = turn_sideways(box, ctx.wall, ctx.room.bounds.center) if ctx.sideways else box
+        index = ctx.wall.index
+        corners = [] if ctx.corner is None else [
+            ((index, end), b) for end, b in to_corners(panel, ctx.wall, ctx.corner, ctx.enclosure)
+            if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES
+        ]  # fmt: skip
+        return [*corners, (None, panel)]
     if ctx.sideways and ctx.wall is not None:
         return [(None, turn_sideways(box, ctx.wall, ctx.room.bounds.center)), (None, box)]
     if ctx.corner is not None and ctx.wall is not None:
@@ -1407,6 +1448,12 @@ class _Context:
     did not pass."""
     sideways: bool = False
     """The object is to stand with a side against ``wall``, not its back."""
+    end_to_wall: bool = False
+    """The object is a panel to stand across ``wall`` (:attr:`AssemblyConfig.end_to_wall`):
+    when ``sideways``, never as drawn (its back, a long face, to the wall); a long face
+    near a wall is rejected (``along_wall``)."""
+    enclosure: float = 0.0
+    """How far from the corners of ``wall`` such a panel is tried (m, :data:`ENCLOSURE_M`)."""
     apart: list | None = None
     """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
     :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""

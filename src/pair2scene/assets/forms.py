@@ -39,6 +39,19 @@ def closed_by_walls(category: str, size: Sequence[float]) -> bool:
     return category == "shower" and min(float(size[0]), float(size[1])) >= SHOWER_THIN_M
 
 
+def end_to_wall(category: str, size: Sequence[float]) -> bool:
+    """Whether ``category``'s asset of box ``size`` is a panel that stands with an end,
+    not a face, at a wall: a shower's glass door or curtain, thinner than
+    :data:`SHOWER_THIN_M` (:func:`~pair2scene.assets.generators.fixtures.shower` builds it
+    along its longer side), closing a shower off from the room. Of the 18 such panels
+    standing on the floor of AI2-THOR's bathrooms, 16 stand across a wall, an end within
+    0.31 m of it (FloorPlan403 and 417 the two others); none lies flat along one. The
+    training rooms store them unturned (yaw 0, in world axes), so their learned wall
+    shares count an end as a back or a side at random: placement puts the end to the
+    wall itself (:attr:`~pair2scene.assembly.place.AssemblyConfig.end_to_wall`)."""
+    return category == "shower" and min(float(size[0]), float(size[1])) < SHOWER_THIN_M
+
+
 def form_of(category: str, size: Sequence[float]) -> str | None:
     """The form of ``category``'s asset of box ``size`` (x, y, z metres) that stands
     unlike the category's others, or None."""
