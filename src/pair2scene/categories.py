@@ -353,6 +353,11 @@ def hangs_on_walls(category: str) -> bool:
 WINDOW_DRESSINGS = frozenset({"curtains", "blinds"})
 """Wall objects that hang at a window (placement puts one at each window it can, a text's
 "curtains on the windows" gives one per window), never relative to another object."""
+HANGS_OVER = frozenset({"painting", "mirror", "wall_lamp"})
+"""Wall objects that hang over or beside the floor object they relate to, on the wall
+behind it (a painting above the bed or sofa, a mirror above the dresser, a wall lamp
+beside the bed): that object stands against a wall (the training rooms' pairs did; a
+television relates to the sofa across the room instead)."""
 
 
 def _check_tables() -> None:

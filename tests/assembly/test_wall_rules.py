@@ -280,3 +280,71 @@ def test_a_corner_is_given_up_only_when_taken_not_for_misdrawn_candidates():
     walls = walls_of(room.floor_polygon)
     placed = _placed_alone(placer, room, "counter_top", 16)
     assert all(in_corner(o.box, walls) for o in placed)
+
+
+def _living(i: int, kind: str) -> Scene:
+    """A sofa with its back to the top wall and a painting hung over it (``under``), the
+    same sofa with nothing over it (``backed``), or a sofa mid-room facing a painting on
+    the top wall across from it (``facing``)."""
+    from pair2scene.scene.model import wall_support
+
+    painting = OrientedBox.from_yaw([2.0, 2.98, 1.6], [1.0, 0.04, 0.6], np.pi)
+    if kind == "facing":
+        sofa = OrientedBox.from_yaw([2.0 + 0.01 * i, 1.0, 0.4], [2.0, 0.9, 0.8])
+    else:
+        sofa = OrientedBox.from_yaw([2.0 + 0.01 * i, 2.54, 0.4], [2.0, 0.9, 0.8], np.pi)
+    objects = [SceneObject("sofa_0", "sofa", sofa, None, FLOOR)]
+    if kind != "backed":
+        objects.append(
+            SceneObject(
+                "painting_0",
+                "painting",
+                painting,
+                None,
+                wall_support(2),
+                functional_anchor="sofa_0",
+            )  # fmt: skip
+        )
+    return Scene(f"l{i}", ROOM, objects)
+
+
+def test_objects_under_a_painting_are_counted_apart_from_the_others():
+    """Sofas a painting hangs over (always against their wall) are counted apart, so that
+    the others take the share of the sofas with nothing over them: 6 under a painting, 4
+    against a wall with nothing over them, 6 mid-room facing a painting across the room
+    (that one hangs across, not over): 10 of 16 against a wall, 4 of 10 of the others."""
+    scenes = [_living(i, "under") for i in range(6)]
+    scenes += [_living(10 + i, "backed") for i in range(4)]
+    scenes += [_living(20 + i, "facing") for i in range(6)]
+    stats = HierarchyStats.from_json(HierarchyStats.fit(scenes).to_json())
+    rs = stats.room_types["bedroom"]
+    assert (rs.on_floor["sofa~under"], rs.against_wall["sofa~under"]) == (6, 6)
+    assert rs.on_floor["sofa"] == 16 and rs.against_wall["sofa"] == 10
+    rules = WallRules.from_stats(stats)
+    assert rules.rate("bedroom", "sofa") == pytest.approx(10 / 16)
+    assert rules.rate("bedroom", "sofa", under=False) == pytest.approx(4 / 10)
+    assert rules.rate("bedroom", "sofa", under=True) == 1.0
+    assert rules.rate("living_room", "sofa", under=False) == pytest.approx(4 / 10)  # pooled
+    assert rules.corner_rate("bedroom", "sofa", under=False) == 0.0
+    # with the anchored split too: none of these sofas has a functional anchor
+    assert rules.rate("bedroom", "sofa", anchored=False, under=False) == pytest.approx(4 / 10)
+    old = WallRules.from_stats(HierarchyStats.fit(scenes[6:]))  # no sofa under anything
+    assert old.rate("bedroom", "sofa", under=False) == old.rate("bedroom", "sofa")
+
+
+@pytest.mark.parametrize("split", [True, False])
+def test_placement_draws_a_sofa_with_nothing_over_it_at_the_share_of_those(split):
+    """5 of 11 sofas against a wall, none of the 6 a painting hangs over: a sofa with
+    nothing over it stands against a wall every time, unless the split is off (then at 5
+    of 11)."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.model import from_pretrained
+
+    rules = WallRules(rates={"living_room": {"sofa": (5, 11), "sofa~under": (0, 6)}})
+    assert rules.rate("living_room", "sofa", under=False) == 1.0
+    config = AssemblyConfig(split_hung_over=split, corners=False, sideways=False)
+    placer = Placer(from_pretrained(), config=config, walls=rules)
+    room = Room("living_room", np.array([[0, 0], [6, 0], [6, 5], [0, 5]], float))
+    against = [bool(faces) for faces in _faces_placed_alone(placer, room, "sofa", 12)]
+    assert all(against) if split else not all(against)

@@ -53,11 +53,6 @@ DOOR_MARGIN_M = 0.05
 DRESSING_ABOVE_M = 0.12
 """Curtains and blinds hang from this far above their window's top (a rod, a cassette);
 under the ceiling."""
-HANGS_OVER = frozenset({"painting", "mirror", "wall_lamp"})
-"""Wall objects that hang over or beside the floor object they relate to, on the wall
-behind it (a painting above the bed or sofa, a mirror above the dresser, a wall lamp
-beside the bed): that object stands against a wall (the training rooms' pairs did; a
-television relates to the sofa across the room instead)."""
 SILL_COVER_M = 0.15
 """Curtains and blinds cut short above furniture still reach this close to their window's
 sill: they cover the window (a sideboard taller than that leaves it undressed)."""
