@@ -152,20 +152,32 @@ def test_objects_alone_take_the_wall_share_of_those_alone(alone):
     assert rules.rate("bedroom", "dining_table", anchored=False) == 0.0  # never anchored
 
 
+GROUPS = {  # room, category, its wall counts, the config's split, the group asked, room size
+    "alone": ("kitchen", "chair", {"chair": (5, 10), "chair~anchored": (0, 5)},
+              "split_wall_rates", {"anchored": False}, (5, 4)),
+    "unhung": ("living_room", "sofa", {"sofa": (5, 11), "sofa~under": (0, 6)},
+               "split_hung_over", {"under": False}, (6, 5)),
+}  # fmt: skip
+
+
 @pytest.mark.parametrize("split", [True, False])
-def test_placement_stands_a_chair_without_its_table_at_the_share_of_chairs_alone(split):
-    """Half the chairs stand against a wall, all of those without a table: a chair with
-    no table in its room stands against a wall every time, unless the split is off."""
+@pytest.mark.parametrize("group", list(GROUPS))
+def test_placement_draws_an_object_at_the_wall_share_of_its_group(group, split):
+    """Every object of the group asked stands against a wall, the others never: a chair
+    with no table in its room (5 of 10 chairs against a wall, none of the 5 at a table),
+    a sofa with nothing hung over it (5 of 11, none of the 6 under a painting), placed
+    alone, stands against a wall every time, unless the split is off."""
     pytest.importorskip("torch")
     from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.model import from_pretrained
 
-    rules = WallRules(rates={"kitchen": {"chair": (5, 10), "chair~anchored": (0, 5)}})
-    assert rules.rate("kitchen", "chair", anchored=False) == 1.0
-    config = AssemblyConfig(split_wall_rates=split, corners=False, sideways=False)
+    room_type, category, counts, flag, asked, (w, d) = GROUPS[group]
+    rules = WallRules(rates={room_type: counts})
+    assert rules.rate(room_type, category, **asked) == 1.0
+    config = AssemblyConfig(corners=False, sideways=False, **{flag: split})
     placer = Placer(from_pretrained(), config=config, walls=rules)
-    room = Room("kitchen", np.array([[0, 0], [5, 0], [5, 4], [0, 4]], float))
-    against = [bool(faces) for faces in _faces_placed_alone(placer, room, "chair", 8)]
+    room = Room(room_type, np.array([[0, 0], [w, 0], [w, d], [0, d]], float))
+    against = [bool(faces) for faces in _faces_placed_alone(placer, room, category, 10)]
     assert all(against) if split else not all(against)
 
 
@@ -330,21 +342,3 @@ def test_objects_under_a_painting_are_counted_apart_from_the_others():
     assert rules.rate("bedroom", "sofa", anchored=False, under=False) == pytest.approx(4 / 10)
     old = WallRules.from_stats(HierarchyStats.fit(scenes[6:]))  # no sofa under anything
     assert old.rate("bedroom", "sofa", under=False) == old.rate("bedroom", "sofa")
-
-
-@pytest.mark.parametrize("split", [True, False])
-def test_placement_draws_a_sofa_with_nothing_over_it_at_the_share_of_those(split):
-    """5 of 11 sofas against a wall, none of the 6 a painting hangs over: a sofa with
-    nothing over it stands against a wall every time, unless the split is off (then at 5
-    of 11)."""
-    pytest.importorskip("torch")
-    from pair2scene.assembly.place import AssemblyConfig, Placer
-    from pair2scene.model import from_pretrained
-
-    rules = WallRules(rates={"living_room": {"sofa": (5, 11), "sofa~under": (0, 6)}})
-    assert rules.rate("living_room", "sofa", under=False) == 1.0
-    config = AssemblyConfig(split_hung_over=split, corners=False, sideways=False)
-    placer = Placer(from_pretrained(), config=config, walls=rules)
-    room = Room("living_room", np.array([[0, 0], [6, 0], [6, 5], [0, 5]], float))
-    against = [bool(faces) for faces in _faces_placed_alone(placer, room, "sofa", 12)]
-    assert all(against) if split else not all(against)
