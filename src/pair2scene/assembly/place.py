@@ -76,6 +76,7 @@ from pair2scene.assembly.rest import (
 )
 from pair2scene.assembly.sizes import SizeTable
 from pair2scene.assembly.walls import (
+    CORNER_GAP_M,
     WallRules,
     faced_by,
     free_length,
@@ -809,14 +810,14 @@ class Placer:
             turned = False  # stands sideways to its wall, if it stands against one
             cornered = False  # stands in the corner at its left (a shower cubicle)
             across_wall = False  # stands with an end to its wall (a shower panel)
-            enclosure = 0.0  # ... that far from the corner of its wall
+            corner_gap = CORNER_GAP_M  # how far short of the next wall it is slid
             if item.support == FLOOR:
                 cornered = cfg.closed_by_walls and closed_by_walls(node.category, asset.size)
                 across_wall = cfg.end_to_wall and end_to_wall(node.category, asset.size)
                 if across_wall:  # its ends: its back and front, or its sides
                     turned = bool(asset.size[1] < asset.size[0])
-                    enclosure = float(np.random.default_rng([asset_seed(node.id, seed), 193])
-                                      .uniform(*ENCLOSURE_M))  # fmt: skip
+                    corner_gap = float(np.random.default_rng([asset_seed(node.id, seed), 193])
+                                       .uniform(*ENCLOSURE_M))  # fmt: skip
                 else:
                     turned = (node.id not in backed and not cornered and self._sideways(
                         node, room, seed, asset.size, self._anchored(functional)
@@ -866,7 +867,7 @@ class Placer:
             along_wall = on_floor_ and framed and queries[0][1] is not None
             context.sideways = along_wall and turned
             context.end_to_wall = across_wall
-            context.enclosure = enclosure
+            context.corner_gap = corner_gap
             context.left_corner = cornered
             ends = None  # the room's convex corners, when this object stands in one
             if (
@@ -1399,31 +1400,27 @@ def _variants(box: OrientedBox, ctx: _Context) -> list[tuple[tuple[int, int] | N
     """The boxes to try for one drawn candidate, in order, each with the (wall index, end)
     of the corner it was slid into (None for the others): slid into each corner of its
     wall, the nearer one first, when the object is to stand in one
-    (:attr:`_Context.corner`; a corner it missed :data:`CORNER_TRIES` times is left out);
-    turned to stand sideways to its wall (:attr:`_Context.sideways`); moved onto its
-    pinned spot on its support (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`);
-    then as drawn."""
-    if ctx.end_to_wall and ctx.wall is not None:
-        # a panel: its end to the wall (turned, when its sides are its ends), tried its
-        # enclosure's depth from each corner of the wall, then where drawn
-        panel = turn_sideways(box, ctx.wall, ctx.room.bounds.center) if ctx.sideways else box
-        index = ctx.wall.index
-        corners = [] if ctx.corner is None else [
-            ((index, end), b) for end, b in to_corners(panel, ctx.wall, ctx.corner, ctx.enclosure)
-            if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES
-        ]  # fmt: skip
-        return [*corners, (None, panel)]
+    (:attr:`_Context.corner`, :attr:`_Context.corner_gap` short of the next wall; a corner
+    it missed :data:`CORNER_TRIES` times is left out); turned to stand sideways to its wall
+    (:attr:`_Context.sideways`; a shower panel only turned, slid into the corners as
+    above); moved onto its pinned spot on its support
+    (:meth:`~pair2scene.assembly.anchors.SpotCheck.pinned`); then as drawn."""
     if ctx.sideways and ctx.wall is not None:
-        return [(None, turn_sideways(box, ctx.wall, ctx.room.bounds.center)), (None, box)]
+        turned = turn_sideways(box, ctx.wall, ctx.room.bounds.center)
+        if not ctx.end_to_wall:
+            return [(None, turned), (None, box)]
+        box = turned  # a panel whose sides are its ends: never as drawn, corners as below
     if ctx.corner is not None and ctx.wall is not None:
         index = ctx.wall.index
         if ctx.left_corner:  # its own corner only, as long as it may still pass there
             left = 0 if float(box.rotation[:2, 0] @ ctx.wall.direction) > 0 else 1
             tries = ctx.corner_misses.get((index, left), 0)
-            corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
+            corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner,
+                                                                   ctx.corner_gap)
                        if end == left and tries < CLOSED_CORNER_TRIES]  # fmt: skip
             return corners or [(None, box)]
-        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner)
+        corners = [((index, end), b) for end, b in to_corners(box, ctx.wall, ctx.corner,
+                                                               ctx.corner_gap)
                    if ctx.corner_misses.get((index, end), 0) < CORNER_TRIES]  # fmt: skip
         return [*corners, (None, box)]
     if ctx.spot is not None:
@@ -1476,8 +1473,9 @@ class _Context:
     """The object is a panel to stand across ``wall`` (:attr:`AssemblyConfig.end_to_wall`):
     when ``sideways``, never as drawn (its back, a long face, to the wall); a long face
     near a wall is rejected (``along_wall``)."""
-    enclosure: float = 0.0
-    """How far from the corners of ``wall`` such a panel is tried (m, :data:`ENCLOSURE_M`)."""
+    corner_gap: float = CORNER_GAP_M
+    """How far short of the next wall a candidate is slid into a corner (m): 5 mm, or a
+    shower panel's enclosure depth (:data:`ENCLOSURE_M`)."""
     apart: list | None = None
     """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
     :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""

@@ -49,7 +49,7 @@ def end_to_wall(category: str, size: Sequence[float]) -> bool:
     training rooms store them unturned (yaw 0, in world axes), so their learned wall
     shares count an end as a back or a side at random: placement puts the end to the
     wall itself (:attr:`~pair2scene.assembly.place.AssemblyConfig.end_to_wall`)."""
-    return category == "shower" and min(float(size[0]), float(size[1])) < SHOWER_THIN_M
+    return category == "shower" and not closed_by_walls(category, size)
 
 
 def form_of(category: str, size: Sequence[float]) -> str | None:

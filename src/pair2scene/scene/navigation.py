@@ -67,6 +67,7 @@ from pair2scene.scene.geometry import (
     convex_hull_2d,
     following,
     points_in_polygon,
+    polygon_area,
 )
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
 from pair2scene.scene.walls import walls_of
@@ -140,8 +141,7 @@ def footprint_polygon(box: OrientedBox) -> np.ndarray:
         hx, hy = box.half_size[:2]
         local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
         pts = local @ rot[:2, :2].T + box.center[:2]
-        a = pts[:, 0] * following(pts[:, 1]) - pts[:, 1] * following(pts[:, 0])
-        return pts if a.sum() >= 0 else pts[::-1].copy()
+        return pts if polygon_area(pts) >= 0 else pts[::-1].copy()
     return np.array(convex_hull_2d(box.corners()[:, :2]), dtype=float)
 
 
