@@ -121,6 +121,8 @@ LAYOUT = (
     ("layout", "against_wall", "against wall"),
     ("layout", "in_corner", "in a corner"),
     ("layout", "chairs_facing_table", "chairs at table"),
+    ("layout", "tables_with_a_chair", "tables with a chair"),
+    ("layout", "tables_seating_four", "tables seating 4+"),
     ("layout", "sofas_facing_tv", "sofa faces TV"),
     ("layout", "nightstands_at_bed_head", "nightstand at bed"),
     ("layout", "floor_overlaps", "over/under another"),

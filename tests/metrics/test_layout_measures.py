@@ -14,6 +14,7 @@ from pair2scene.metrics.layout import (
     against_wall_counts,
     beside_bed_head,
     chairs_facing_table,
+    chairs_per_table,
     layout_measures,
     layout_report,
     nightstands_at_bed_head,
@@ -157,6 +158,26 @@ def test_the_nearest_table_is_the_one_faced():
     # 0.13 m from the desk, 0.33 m from the dining table: it is at the desk
     chair = obj("c", "chair", [2, 1.05], CHAIR, yaw=SOUTH)
     assert chairs_facing_table(room(TABLE, desk, chair)) == [1, 1]
+
+
+def test_chairs_per_dining_table_whichever_way_they_face():
+    """Four chairs round the dining table (one turned away: still at it), one at the desk
+    beside it, one across the room: the table seats four, the desk is not counted."""
+    desk = obj("desk", "desk", [0.7, 0.4], [1.2, 0.6, 0.75])
+    chairs = [
+        obj("n", "chair", [2, 2.75], CHAIR, yaw=SOUTH),
+        obj("s", "chair", [2, 1.25], CHAIR, yaw=SOUTH),  # turned away, at the table
+        obj("e", "chair", [2.95, 2], CHAIR, yaw=WEST),
+        obj("w", "chair", [1.05, 2], CHAIR, yaw=EAST),
+        obj("d", "chair", [0.7, 0.95], CHAIR, yaw=SOUTH),  # at the desk
+        obj("far", "chair", [3.7, 3.7], CHAIR),  # 1.1 m off: at none
+    ]
+    assert chairs_per_table(room(TABLE, desk, *chairs)) == [4]
+    assert chairs_per_table(room(TABLE, desk, *chairs[4:])) == [0]
+    assert chairs_per_table(room(desk, *chairs)) == []  # no dining table: none measured
+    measures = layout_measures(room(TABLE, desk, *chairs[1:]))
+    assert measures["tables_with_a_chair"] == [1, 1]
+    assert measures["tables_seating_four"] == [0, 1]  # three left at it
 
 
 # -- sofas and TVs ---------------------------------------------------------------------
