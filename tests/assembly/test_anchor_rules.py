@@ -4,6 +4,8 @@ takes the room's table as its anchor."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -14,7 +16,7 @@ from pair2scene.hierarchy.synthesis import Statistics
 from pair2scene.hierarchy.tree import Hierarchy
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Opening, Room, Scene, SceneObject
-from pair2scene.scene.relations import angle_to_footprint, faces, footprint
+from pair2scene.scene.relations import angle_to_footprint, faces, footprint, footprint_gap
 
 ROOM = Room(
     "living_room",
@@ -163,12 +165,27 @@ def test_placement_keeps_a_chair_at_its_table_facing_it(far):
     assert far or not faces(chair.box, TABLE)  # the first candidate, as drawn
 
 
-def test_a_chair_with_no_place_at_its_table_is_dropped_with_the_reason():
+@pytest.mark.parametrize("far", [False, True])
+def test_a_chair_drawn_only_aside_or_off_its_table_is_seated_at_it(far):
+    """Every candidate turned aside (or 0.9 m off, facing away): none passes as drawn,
+    and the chair is seated at the table's nearest side, facing it (``seated_at``);
+    without the rule it is dropped with the reasons."""
     config = AssemblyConfig(walls=False, navigable=False, candidates=8, batches=2)
-    placer = Placer(_Chairs(bad=16), config=config, anchors=_rules())
+    placer = Placer(_Chairs(bad=16, far=far), config=config, anchors=_rules())
     result = placer.place(_chair_at_table(), ROOM, seed=0)
+    assert result.stats.dropped == [] and result.stats.resamples[-1] == 16  # all tried first
+    chair = next(o for o in result.scene.objects if o.category == "chair")
+    assert faces(chair.box, TABLE)
+    assert chair.box.center[1] > TABLE.center[1] + TABLE.half_size[1]  # its north side
+    assert footprint_gap(footprint(chair.box), footprint(TABLE)) < 0.01  # at the edge
+
+    config = replace(config, seat_at_anchor=False)
+    result = Placer(placer.model, config=config, anchors=_rules()).place(
+        _chair_at_table(), ROOM, seed=0
+    )
     assert [d.category for d in result.stats.dropped] == ["chair"]
-    assert "faces_away 16" in result.stats.dropped[0].reason
+    reason = "far_from_anchor 16" if far else "faces_away 16"
+    assert reason in result.stats.dropped[0].reason
 
 
 def test_an_object_that_must_stand_in_front_of_its_anchor():

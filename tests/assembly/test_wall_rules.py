@@ -152,11 +152,44 @@ def test_objects_alone_take_the_wall_share_of_those_alone(alone):
     assert rules.rate("bedroom", "dining_table", anchored=False) == 0.0  # never anchored
 
 
+def _dining(i: int, seats: int) -> Scene:
+    """A dining table with ``seats`` chairs at it mid-room, or with none against the north
+    wall."""
+    y = 1.5 if seats else 2.59
+    table = OrientedBox.from_yaw([2.0 + 0.01 * i, y, 0.4], [1.2, 0.8, 0.8], np.pi)
+    objects = [SceneObject("table_0", "dining_table", table, None, FLOOR)]
+    for k in range(seats):
+        x = 1.7 + 0.6 * k
+        chair = OrientedBox.from_yaw([x, 0.85, 0.45], [0.5, 0.5, 0.9])
+        objects.append(SceneObject(f"chair_{k}", "chair", chair, None, FLOOR, "table_0"))
+    return Scene(f"d{i}_{seats}", ROOM, objects)
+
+
+def test_tables_take_the_wall_share_of_those_with_as_many_seats():
+    """Five tables with two chairs mid-room, five with none against a wall: a table with
+    none stands against a wall every time, one with two never, one with three (never
+    counted) at the category's share."""
+    scenes = [_dining(i, 2) for i in range(5)] + [_dining(i, 0) for i in range(5)]
+    stats = HierarchyStats.from_json(HierarchyStats.fit(scenes).to_json())
+    rs = stats.room_types["bedroom"]
+    assert (rs.on_floor["dining_table~seats2"], rs.against_wall["dining_table~seats2"]) == (5, 0)
+    assert (rs.on_floor["dining_table~seats0"], rs.against_wall["dining_table~seats0"]) == (5, 5)
+    rules = WallRules.from_stats(stats)
+    assert rules.rate("bedroom", "dining_table") == 0.5
+    assert rules.rate("bedroom", "dining_table", seats=0) == 1.0
+    assert rules.rate("bedroom", "dining_table", seats=2) == 0.0
+    assert rules.rate("bedroom", "dining_table", seats=3) == 0.5
+    assert all(rules.against_wall("bedroom", "dining_table", s, seats=0) for s in range(20))
+
+
 GROUPS = {  # room, category, its wall counts, the config's split, the group asked, room size
     "alone": ("kitchen", "chair", {"chair": (5, 10), "chair~anchored": (0, 5)},
               "split_wall_rates", {"anchored": False}, (5, 4)),
     "unhung": ("living_room", "sofa", {"sofa": (5, 11), "sofa~under": (0, 6)},
                "split_hung_over", {"under": False}, (6, 5)),
+    "unseated": ("living_room", "dining_table",
+                 {"dining_table": (5, 10), "dining_table~seats0": (5, 5)},
+                 "split_seats", {"seats": 0}, (5, 4)),
 }  # fmt: skip
 
 
@@ -165,8 +198,9 @@ GROUPS = {  # room, category, its wall counts, the config's split, the group ask
 def test_placement_draws_an_object_at_the_wall_share_of_its_group(group, split):
     """Every object of the group asked stands against a wall, the others never: a chair
     with no table in its room (5 of 10 chairs against a wall, none of the 5 at a table),
-    a sofa with nothing hung over it (5 of 11, none of the 6 under a painting), placed
-    alone, stands against a wall every time, unless the split is off."""
+    a sofa with nothing hung over it (5 of 11, none of the 6 under a painting), a dining
+    table with no chair (5 of 10, all 5 with none), placed alone, stands against a wall
+    every time, unless the split is off."""
     pytest.importorskip("torch")
     from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.model import from_pretrained

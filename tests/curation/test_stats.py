@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections import Counter
 
 import numpy as np
 import pytest
@@ -201,3 +202,52 @@ def test_what_rests_on_a_support_s_top_and_what_inside():
     del doc["on_top"]  # written before it was kept: no rule
     old = HierarchyStats.from_dict(doc)
     assert old.on_top is None and old.top_kept_free() == frozenset()
+
+
+def test_a_template_keeps_which_members_sat_at_which():
+    """Three living rooms of one layout, a table and four chairs each: all four at the
+    table in two of them, none in the third. The template keeps the two patterns apart,
+    where a share (8 of 12) would seat chairs at the table one by one."""
+    chairs = [(f"c{i}", "chair", FLOOR) for i in range(4)]
+    rooms = [
+        room(name, "living_room", [("t", "dining_table", FLOOR, None)]
+             + [(*c, anchor) for c in chairs])
+        for name, anchor in (("r0", "t"), ("r1", None), ("r2", "t"))
+    ]  # fmt: skip
+    stats = HierarchyStats.fit(rooms)
+    rs = stats.room_types["living_room"]
+    layout = ["chair"] * 4 + ["dining_table"]
+    drawn = Counter()
+    for seed in range(60):
+        pattern = rs.template_anchors(layout, np.random.default_rng(seed))
+        drawn[json.dumps(pattern, sort_keys=True)] += 1
+    assert drawn.keys() == {"{}", '{"chair": {"dining_table": 4}}'}
+    assert 30 < drawn['{"chair": {"dining_table": 4}}'] < 55, drawn  # 2 rooms of 3
+    assert rs.template_anchors(["dining_table"], np.random.default_rng(0)) is None
+    (template,) = stats.to_dict()["room_types"]["living_room"]["templates"]
+    assert template["anchored"] == [[{}, 1], [{"chair>dining_table": 4}, 2]]
+    back = HierarchyStats.from_json(stats.to_json()).room_types["living_room"]
+    assert back.layout_anchors == rs.layout_anchors
+    doc = stats.to_dict()  # statistics written before it was kept: no patterns
+    del doc["room_types"]["living_room"]["templates"][0]["anchored"]
+    old = HierarchyStats.from_dict(doc).room_types["living_room"]
+    assert old.template_anchors(layout, np.random.default_rng(0)) is None
+
+
+@pytest.mark.parametrize(
+    "pattern, message",
+    [({"chair>sofa": 1}, "not two of the template's members"),
+     ({"chair": 1}, "not two of the template's members"),
+     ({"chair>dining_table": 5}, "5 of its 4 members")],
+)  # fmt: skip
+def test_impossible_template_anchors_are_a_user_error(pattern, message):
+    rooms = [
+        room(f"r{i}", "living_room", [("t", "dining_table", FLOOR, None),
+                                      ("c0", "chair", FLOOR, "t"), ("c1", "chair", FLOOR, None),
+                                      ("c2", "chair", FLOOR, None), ("c3", "chair", FLOOR, None)])
+        for i in range(2)
+    ]  # fmt: skip
+    doc = HierarchyStats.fit(rooms).to_dict()
+    doc["room_types"]["living_room"]["templates"][0]["anchored"] = [[pattern, 2]]
+    with pytest.raises(UserError, match=f"malformed statistics.*{message}"):
+        HierarchyStats.from_dict(doc, "stats.json")

@@ -333,3 +333,33 @@ def test_cli_file_validates_a_hierarchy(tmp_path):
         proc = run_cli("hierarchy", "--file", str(path))
         assert proc.returncode == 2 and msg in proc.stderr and str(path) in proc.stderr
         assert proc.stderr.count("\n") == 1
+
+
+def _dining_rooms() -> HierarchyStats:
+    """Six living rooms of one layout, a table and four chairs: three with every chair at
+    the table, three with none (the pooled share of a chair at a table: 0.5)."""
+    from pair2scene.scene.geometry import OrientedBox
+    from pair2scene.scene.model import Room, Scene, SceneObject
+
+    floor = np.array([[0, 0], [5, 0], [5, 5], [0, 5]], float)
+    box = OrientedBox.from_yaw([1, 1, 0.4], [0.5, 0.5, 0.8])
+    rooms = []
+    for i in range(6):
+        at = "t" if i % 2 else None
+        objects = [SceneObject("t", "dining_table", box, None, FLOOR, None)]
+        objects += [SceneObject(f"c{k}", "chair", box, None, FLOOR, at) for k in range(4)]
+        rooms.append(Scene(f"r{i}", Room("living_room", floor), objects, split="train"))
+    return HierarchyStats.fit(rooms)
+
+
+def test_a_templates_chairs_sit_at_its_table_as_in_its_rooms():
+    """All four or none, as the rooms had them; drawn one by one from the pooled share,
+    a table got 1-3 of them most of the time."""
+    stats = _dining_rooms()
+    seated = {True: Counter(), False: Counter()}
+    for own in (True, False):
+        for seed in range(200):
+            h = synthesize(stats, "living_room", SynthesisConfig(seed=seed, template_anchors=own))
+            seated[own][sum(1 for a in h.functional.values() if a == "dining_table_0")] += 1
+    assert set(seated[True]) == {0, 4} and min(seated[True].values()) > 60, seated[True]
+    assert sum(seated[False][k] for k in (1, 2, 3)) > 100, seated[False]

@@ -22,7 +22,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pair2scene.assets.forms import form_key
-from pair2scene.curation.stats import HierarchyStats, anchored_key, mean_std, under_key
+from pair2scene.curation.stats import (
+    HierarchyStats,
+    anchored_key,
+    mean_std,
+    seats_key,
+    under_key,
+)
 from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
 from pair2scene.scene.model import Room
 from pair2scene.scene.walls import Wall
@@ -107,7 +113,9 @@ class WallRules:
         close = gaps[1] / gaps[0] if gaps is not None and gaps[0] >= MIN_GAP_PAIRS else None
         return cls(rates, distances, corners, sideways, close)
 
-    def rate(self, room_type: str, category: str, size=None, anchored=None, under=None) -> float:
+    def rate(
+        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
+    ) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
         every room type when this one never held it; 0 when none did). With the object's
         ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
@@ -118,49 +126,76 @@ class WallRules:
         table 0.21, alone 0.80. With ``under`` (True: a painting, mirror or wall lamp hangs
         over the object; False: none does), the share of those objects, or of the others,
         where enough were counted (:func:`~pair2scene.curation.stats.under_key`): a
-        living-room sofa with nothing hung over it, 0.79 instead of 0.82."""
-        return _share(self.rates, room_type, category, size, anchored, under)
+        living-room sofa with nothing hung over it, 0.79 instead of 0.82. With ``seats``
+        (a table's seats, :data:`~pair2scene.categories.SEATED_AT`), the share of the
+        category's objects with that many (:func:`~pair2scene.curation.stats.seats_key`),
+        where enough were counted, in place of ``anchored``'s: a living-room dining table
+        with no chair 1.00, with four 0.00."""
+        return _share(self.rates, room_type, category, size, anchored, under, seats)
 
     def against_wall(
-        self, room_type: str, category: str, seed: int, size=None, anchored=None, under=None
+        self,
+        room_type: str,
+        category: str,
+        seed: int,
+        size=None,
+        anchored=None,
+        under=None,
+        seats=None,
     ) -> bool:
         """Whether an object (``seed``: its asset seed; ``size``: its box, for its form;
-        ``anchored`` and ``under``: as :meth:`rate`) stands against a wall: a draw."""
+        ``anchored``, ``under`` and ``seats``: as :meth:`rate`) stands against a wall: a
+        draw."""
         u = np.random.default_rng([seed, _SALT]).random()
-        return bool(u < self.rate(room_type, category, size, anchored, under))
+        return bool(u < self.rate(room_type, category, size, anchored, under, seats))
 
     def corner_rate(
-        self, room_type: str, category: str, size=None, anchored=None, under=None
+        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
     ) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         in a corner (over every room type when this one never had one against a wall; of
         its form's with ``size``, of those with or without an anchor, with or without a
-        wall object over them, as :meth:`rate`)."""
-        return _share(self.corners, room_type, category, size, anchored, under)
+        wall object over them, by their seats, as :meth:`rate`)."""
+        return _share(self.corners, room_type, category, size, anchored, under, seats)
 
     def in_corner(
-        self, room_type: str, category: str, seed: int, size=None, anchored=None, under=None
+        self,
+        room_type: str,
+        category: str,
+        seed: int,
+        size=None,
+        anchored=None,
+        under=None,
+        seats=None,
     ) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
         a draw, independent of the wall draw."""
         u = np.random.default_rng([seed, _CORNER_SALT]).random()
-        return bool(u < self.corner_rate(room_type, category, size, anchored, under))
+        return bool(u < self.corner_rate(room_type, category, size, anchored, under, seats))
 
     def sideways_rate(
-        self, room_type: str, category: str, size=None, anchored=None, under=None
+        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
     ) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         with a side, not their back, against it (pooled, of its form, of those with or
-        without an anchor and with or without a wall object over them, as :meth:`rate`)."""
-        return _share(self.sideways, room_type, category, size, anchored, under)
+        without an anchor, with or without a wall object over them and by their seats,
+        as :meth:`rate`)."""
+        return _share(self.sideways, room_type, category, size, anchored, under, seats)
 
     def turned(
-        self, room_type: str, category: str, seed: int, size=None, anchored=None, under=None
+        self,
+        room_type: str,
+        category: str,
+        seed: int,
+        size=None,
+        anchored=None,
+        under=None,
+        seats=None,
     ) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands sideways to
         it: a draw, independent of the wall and corner draws."""
         u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
-        return bool(u < self.sideways_rate(room_type, category, size, anchored, under))
+        return bool(u < self.sideways_rate(room_type, category, size, anchored, under, seats))
 
     def keeps_apart(self, seed: int) -> bool:
         """Whether a mounted object (``seed``: its asset seed) hangs at least
@@ -200,15 +235,18 @@ def _share(
     size=None,
     anchored: bool | None = None,
     under: bool | None = None,
+    seats: int | None = None,
 ) -> float:
     """``part / whole`` of ``table[room_type]``'s entry for ``category``, pooled over every
     room type when this one has no whole for the category; 0 when none has. The entry is
     the form's at ``size`` (:func:`_key`); else, with ``anchored``, the category's objects
     with a functional anchor (True) or without one (False: the category's counts less
     those with one), when :data:`MIN_SPLIT_OBJECTS` of them were counted; else the
-    category's. Then, with ``under``, of those the ones a wall object hangs over (True,
-    :func:`~pair2scene.curation.stats.under_key`) or the others (False), when
-    :data:`MIN_SPLIT_OBJECTS` of them were counted."""
+    category's; with ``seats``, first the category's objects with that many seats
+    (:func:`~pair2scene.curation.stats.seats_key`), when :data:`MIN_SPLIT_OBJECTS` of them
+    were counted, in place of the ``anchored`` split. Then, with ``under``, of those the
+    ones a wall object hangs over (True, :func:`~pair2scene.curation.stats.under_key`) or
+    the others (False), when :data:`MIN_SPLIT_OBJECTS` of them were counted."""
     key = _key(table, room_type, category, size)
 
     def counts(name: str) -> tuple[float, float]:
@@ -224,7 +262,13 @@ def _share(
         return a - b, m - n
 
     chosen: tuple[str, str | None] = (key, None)  # the counts of [0] less those of [1]
-    if key == category and anchored is not None:
+    if (
+        key == category
+        and seats is not None
+        and less(seats_key(category, seats), None)[1] >= MIN_SPLIT_OBJECTS
+    ):
+        chosen = (seats_key(category, seats), None)
+    elif key == category and anchored is not None:
         mark = anchored_key(category)
         split = (mark, None) if anchored else (key, mark)
         if less(*split)[1] >= MIN_SPLIT_OBJECTS:

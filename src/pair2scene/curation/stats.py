@@ -34,14 +34,14 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from pair2scene.assets.forms import form_key
-from pair2scene.categories import HANGS_OVER, WINDOW_DRESSINGS, SuperCategory
+from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS, SuperCategory
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.geometry import convex_overlap_area, polygon_area
@@ -89,6 +89,31 @@ def anchored_key(category: str) -> str:
 UNDER_MARK = "~under"
 """Suffix of the wall statistics' key counting apart a category's floor objects that a
 painting, mirror or wall lamp hangs over (:func:`under_key`)."""
+
+
+ANCHOR_PAIR_MARK = ">"
+AnchorPattern = tuple[tuple[str, int], ...]
+"""A room's :attr:`RoomTypeStats.layout_anchors` pattern: sorted (pair, count) pairs."""
+
+
+def anchor_pair(dependent: str, anchor: str) -> str:
+    """The key of a (dependent, functional anchor) pair of categories in
+    :attr:`RoomTypeStats.layout_anchors` (``chair>dining_table``)."""
+    return f"{dependent}{ANCHOR_PAIR_MARK}{anchor}"
+
+
+SEATS_MARK = "~seats"
+MAX_SEATS = 4
+"""Seats at a table counted apart (:func:`seats_key`); more are counted with these."""
+
+
+def seats_key(category: str, seats: int) -> str:
+    """The key under which the wall counts also count ``category``'s floor objects of
+    :data:`~pair2scene.categories.SEATED_AT` with ``seats`` seats
+    (:data:`~pair2scene.categories.SEATS`) taking them as their functional anchor, up to
+    :data:`MAX_SEATS` (``dining_table~seats4``: four or more): a table with no chair
+    stands against a wall, one with four stands free of every wall."""
+    return f"{category}{SEATS_MARK}{min(int(seats), MAX_SEATS)}"
 
 
 def under_key(key: str) -> str:
@@ -282,6 +307,14 @@ class RoomTypeStats:
     layouts: Counter[tuple[str, ...]] = field(default_factory=Counter)
     """Sorted multiset of template members (:func:`template_member`, repeats kept) ->
     number of rooms with it."""
+    layout_anchors: Counter[tuple[tuple[str, ...], AnchorPattern]] = field(default_factory=Counter)
+    """(layout, a room's anchor pattern) -> number of rooms: which of a room's floor
+    members took which other as their functional anchor, as sorted (:func:`anchor_pair`,
+    count) pairs (``(("chair>dining_table", 4),)``: its four chairs at its table; ``()``:
+    none at any). A template's rooms are kept apart this way, so a drawn template seats
+    its chairs as one of its rooms did, not each chair on its own with a pooled share.
+    Empty in statistics written before it was kept (then every member draws its anchor
+    from the pooled :attr:`HierarchyStats.func_dep`)."""
     object_counts: Counter[int] = field(default_factory=Counter)
     """Number of placed objects in a room -> number of rooms."""
     layout_counts: Counter[tuple[tuple[str, ...], int]] = field(default_factory=Counter)
@@ -292,7 +325,8 @@ class RoomTypeStats:
     """Category -> objects of it standing on the floor. This and the three wall counts
     below also count the objects of a form apart, under its key
     (:func:`~pair2scene.assets.forms.form_key`: ``counter_top#shaped``, L and C counters),
-    and those with a functional anchor, under :func:`anchored_key` (``chair~anchored``),
+    those with a functional anchor, under :func:`anchored_key` (``chair~anchored``), and
+    tables by the seats at them, under :func:`seats_key` (``dining_table~seats4``),
     besides their category; and, of each of those, the objects a painting, mirror or wall
     lamp hangs over under :func:`under_key` (``sofa~under``, ``chair~anchored~under``)."""
     against_wall: Counter[str] = field(default_factory=Counter)
@@ -339,6 +373,25 @@ class RoomTypeStats:
         ranked = sorted(self.layouts.items(), key=lambda kv: (-kv[1], kv[0]))
         return [(dict(sorted(Counter(k).items())), n) for k, n in ranked[:top]]
 
+    def template_anchors(
+        self, layout: Sequence[str], rng: np.random.Generator
+    ) -> dict[str, Counter[str]] | None:
+        """One of ``layout``'s training rooms' anchor patterns (:attr:`layout_anchors`),
+        drawn by rooms: dependent category -> anchor category -> how many of its members
+        took one. None when these statistics do not keep them or have no such layout (a
+        composed room type's, or one a text changed); then nothing is drawn."""
+        key = tuple(sorted(layout))
+        patterns = sorted((p, n) for (k, p), n in self.layout_anchors.items() if k == key)
+        if not patterns:
+            return None
+        weights = np.array([n for _, n in patterns], float)
+        pattern = patterns[int(rng.choice(len(patterns), p=weights / weights.sum()))][0]
+        out: dict[str, Counter[str]] = {}
+        for pair, n in pattern:
+            dependent, _, anchor = pair.partition(ANCHOR_PAIR_MARK)
+            out.setdefault(dependent, Counter())[anchor] += n
+        return out
+
     def furniture_counts(self) -> dict[str, dict[int, int]]:
         """Per template category: instances in a room -> number of rooms (0 included)."""
         cats = sorted({c for layout in self.layouts for c in layout})
@@ -355,6 +408,7 @@ class RoomTypeStats:
         self.layouts.update(other.layouts)
         self.object_counts.update(other.object_counts)
         self.layout_counts.update(other.layout_counts)
+        self.layout_anchors.update(other.layout_anchors)
         self.on_floor.update(other.on_floor)
         self.against_wall.update(other.against_wall)
         self.in_corner.update(other.in_corner)
@@ -389,6 +443,21 @@ def _sums(table: dict[str, dict[str, list[float]]]) -> dict:
     }
 
 
+def _anchor_pattern(pattern: Mapping[str, int], layout: tuple[str, ...]) -> AnchorPattern:
+    """A template's ``anchored`` pattern as read from JSON, checked against its layout:
+    each pair two of its members, no more dependents than it has (ValueError)."""
+    out = []
+    for pair, n in sorted(pattern.items()):
+        dep, _, anchor = pair.partition(ANCHOR_PAIR_MARK)
+        if dep not in layout or anchor not in layout:
+            raise ValueError(f"anchored {pair!r}: not two of the template's members as "
+                             "'dependent>anchor'")  # fmt: skip
+        if not 0 < int(n) <= layout.count(dep):
+            raise ValueError(f"anchored {pair!r}: {n} of its {layout.count(dep)} members")
+        out.append((pair, int(n)))
+    return tuple(out)
+
+
 def _layout_key(furniture: dict[str, int]) -> tuple[str, ...]:
     """{category: count} -> the sorted multiset :attr:`RoomTypeStats.layouts` is keyed by."""
     return tuple(sorted(c for c, n in furniture.items() for _ in range(int(n))))
@@ -396,10 +465,17 @@ def _layout_key(furniture: dict[str, int]) -> tuple[str, ...]:
 
 def _joint_counts(rs: RoomTypeStats, furniture: dict[str, int]) -> dict:
     """A template's ``object_counts`` entry: placed objects -> rooms, for the rooms with
-    exactly that furniture ({} when the statistics do not have it)."""
+    exactly that furniture, and its ``anchored`` one (:attr:`RoomTypeStats.layout_anchors`)
+    (each left out when the statistics do not have it)."""
     key = _layout_key(furniture)
     joint = {count: n for (layout, count), n in rs.layout_counts.items() if layout == key}
-    return {"object_counts": {str(k): joint[k] for k in sorted(joint)}} if joint else {}
+    patterns = sorted((p, n) for (layout, p), n in rs.layout_anchors.items() if layout == key)
+    out: dict = {}
+    if joint:
+        out["object_counts"] = {str(k): joint[k] for k in sorted(joint)}
+    if patterns:
+        out["anchored"] = [[dict(p), n] for p, n in patterns]
+    return out
 
 
 @dataclass
@@ -527,6 +603,18 @@ class HierarchyStats:
         room.layouts[layout] += 1
         room.object_counts[len(placed)] += 1
         room.layout_counts[layout, len(placed)] += 1
+        pattern: Counter[str] = Counter()
+        for o in placed:
+            anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
+            if (
+                anchor is not None
+                and o.support == FLOOR
+                and anchor.support == FLOOR
+                and template_member(o) is not None
+                and template_member(anchor) is not None
+            ):
+                pattern[anchor_pair(o.category, anchor.category)] += 1
+        room.layout_anchors[layout, tuple(sorted(pattern.items()))] += 1
         room.window_counts[len(scene.room.windows)] += 1
         for w in scene.room.windows:
             shape = (w.width, max(w.z_min, 0.0), w.z_max)
@@ -547,6 +635,10 @@ class HierarchyStats:
             if on_wall(o.support) and o.category in HANGS_OVER and o.functional_anchor in by_id
             and not faces(by_id[o.functional_anchor].box, o.box)
         }  # fmt: skip
+        seated = Counter(  # floor object -> seats at it
+            o.functional_anchor for o in placed
+            if o.category in SEATS and o.support == FLOOR and o.functional_anchor
+        )  # fmt: skip
         for o in placed:
             if o.support != FLOOR:
                 continue
@@ -559,6 +651,8 @@ class HierarchyStats:
             keys = [o.category] + ([] if form is None else [form])
             if anchor is not None:  # and a chair at a table apart from one alone
                 keys.append(anchored_key(o.category))
+            if o.category in SEATED_AT:  # and a table by its chairs
+                keys.append(seats_key(o.category, seated[o.id]))
             if o.id in under:  # and each of those under a painting apart
                 keys += [under_key(k) for k in keys]
             for key in keys:
@@ -692,7 +786,7 @@ class HierarchyStats:
         for base, weight in bases.items():
             part = self.room_types[base]
             scale = weight / sum(bases.values()) * pooled.rooms / part.rooms
-            for name in ("layouts", "object_counts", "layout_counts", "on_floor",
+            for name in ("layouts", "object_counts", "layout_counts", "layout_anchors", "on_floor",
                          "against_wall", "in_corner", "sideways", "window_counts", "window_shapes",
                          "floor_shapes"):  # fmt: skip
                 counts = getattr(pooled, name)
@@ -798,6 +892,8 @@ class HierarchyStats:
                     rs.layouts[key] += int(t["rooms"])
                     for k, v in t.get("object_counts", {}).items():
                         rs.layout_counts[key, int(k)] += int(v)
+                    for pattern, rooms in t.get("anchored", []):
+                        rs.layout_anchors[key, _anchor_pattern(pattern, key)] += int(rooms)
                 rs.object_counts = Counter({int(k): int(v) for k, v in rd["object_counts"].items()})
                 for cat, w in rd.get("walls", {}).items():
                     n, by_wall = int(w["on_floor"]), int(w["against_wall"])

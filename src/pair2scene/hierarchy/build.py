@@ -55,7 +55,8 @@ def build_hierarchy(
         raise UserError(f"llm must be one of {', '.join(LLM_CHOICES)}")
     settings = config or HierarchyConfig()
     config = SynthesisConfig(mode=mode, max_objects=max_objects, seed=seed, k=settings.k,
-                             beyond_load=settings.beyond_load)  # fmt: skip
+                             beyond_load=settings.beyond_load,
+                             template_anchors=settings.template_anchors)  # fmt: skip
     if not isinstance(stats, HierarchyStats):
         stats = load_stats(stats)
     if room is not None:

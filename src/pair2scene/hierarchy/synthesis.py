@@ -43,7 +43,7 @@ statistics, same hierarchy.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -98,6 +98,11 @@ class HierarchyConfig:
     """``beyond``: a piece of furniture is counted on to carry this many times the objects
     its category carried in the training rooms; extra furniture is added until the pieces
     can carry ``--max-objects`` (see :data:`BEYOND_LOAD` for the measurements)."""
+    template_anchors: bool = True
+    """A drawn template's floor members take functional anchors as in its training rooms
+    (all four chairs at the table, or none, as the room had them); off: each member
+    draws one on its own from the pooled shares (0.935 for a chair beside a dining
+    table), and a four-chair table kept all four 0.76 of the time."""
 
     def __post_init__(self) -> None:
         if not self.k > 0 or not np.isfinite(self.k):
@@ -121,6 +126,8 @@ class SynthesisConfig:
     seed: int = 0
     beyond_load: float = BEYOND_LOAD
     """:attr:`HierarchyConfig.beyond_load`."""
+    template_anchors: bool = True
+    """:attr:`HierarchyConfig.template_anchors`."""
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -247,10 +254,20 @@ class Statistics:
         ]
 
     def functional_choice(
-        self, support: str, category: str, siblings: list[Node], rng: np.random.Generator
+        self,
+        support: str,
+        category: str,
+        siblings: list[Node],
+        rng: np.random.Generator,
+        shares: Mapping[str, float] | None = None,
     ) -> Node | None:
         """A functional anchor for a new ``category`` object among ``siblings`` on a
         ``support`` category, drawn with the statistics' frequencies (or none).
+
+        ``shares``: anchor category -> the chance that this object takes one of it (the
+        shares summing to at most 1); they replace the pooled frequencies below, and
+        siblings of a category share its chance evenly. :func:`add_floor_furniture` gives
+        them from a template's training room, whose chairs all sat at its table or none.
 
         Whether it gets one at all is conditioned on what stands there: with ``r_a`` the
         share of ``category`` objects that took an ``a`` as their anchor among those
@@ -258,6 +275,10 @@ class Statistics:
         the siblings' categories (a chair in a room with a dining table: 0.9 and more,
         where the share over all chairs, tables or not, was 0.75). Statistics without
         those counts fall back to the share over all ``category`` objects."""
+        if shares is not None:
+            present = Counter(s.category for s in siblings)
+            weights = [shares.get(s.category, 0.0) / present[s.category] for s in siblings]
+            return self._pick(siblings, weights, sum(weights), rng)
         per_anchor = self.stats.func_dep.get(support, {})
         weights = [per_anchor.get(s.category, {}).get(category, 0) for s in siblings]
         if not any(weights):
@@ -274,7 +295,14 @@ class Statistics:
             with_anchor = sum(per_anchor.get(a, {}).get(category, 0) for a in per_anchor)
             placed = self.stats.sup_dep.get(support, {}).get(category, 0)
             chance = min(1.0, with_anchor / placed) if placed else 0.0
-        if rng.random() >= chance:
+        return self._pick(siblings, weights, chance, rng)
+
+    @staticmethod
+    def _pick(
+        siblings: list[Node], weights: list[float], chance: float, rng: np.random.Generator
+    ) -> Node | None:
+        """One of ``siblings`` by ``weights`` with probability ``chance``, else None."""
+        if not any(weights) or rng.random() >= chance:
             return None
         w = np.asarray(weights, dtype=float)
         return siblings[int(rng.choice(len(siblings), p=w / w.sum()))]
@@ -297,15 +325,33 @@ def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
     return sorted(categories, key=key)
 
 
-def add_floor_furniture(h: Hierarchy, members: list[str], stats: Statistics, rng) -> None:
+def add_floor_furniture(
+    h: Hierarchy,
+    members: list[str],
+    stats: Statistics,
+    rng,
+    anchors: Mapping[str, Mapping[str, int]] | None = None,
+) -> None:
     """Add a template's members: floor furniture in anchor-first order, each with a drawn
     functional anchor, then its wall objects (``<category>@wall``) on ``wall``, each with
-    a floor object as its anchor drawn from the walls' statistics (or none)."""
+    a floor object as its anchor drawn from the walls' statistics (or none). ``anchors``:
+    one of the template's rooms' anchor pattern (:meth:`RoomTypeStats.template_anchors
+    <pair2scene.curation.stats.RoomTypeStats.template_anchors>`; category -> anchor
+    category -> members that took one): the floor members take exactly those anchors
+    (where the anchors are there), drawn without replacement, none of the others'."""
     split = [split_member(m) for m in members]
     floor = [c for c, mounted in split if not mounted]
+    left = Counter(floor)  # members of each category not yet added
+    taken = {c: Counter(a) for c, a in (anchors or {}).items()}  # anchors still to take
     for cat in anchor_first(floor, stats):
         siblings = [n for n in h.children(FLOOR) if n.id not in h.functional]
-        anchor = stats.functional_choice(FLOOR, cat, siblings, rng)
+        shares = None
+        if anchors is not None:
+            shares = {a: n / left[cat] for a, n in taken.get(cat, {}).items()}
+            left[cat] -= 1
+        anchor = stats.functional_choice(FLOOR, cat, siblings, rng, shares)
+        if anchor is not None and shares is not None:
+            taken[cat][anchor.category] -= 1
         h.add(cat, FLOOR, None if anchor is None else anchor.id)
     for cat in sorted(c for c, mounted in split if mounted):
         anchor = None
@@ -378,6 +424,7 @@ def synthesize(
     # piled them on the dresser); statistics without the joint counts give the count
     # from the rooms that hold at least the drawn furniture.
     template, target = _draw_room(rs, config.mode == "fit", rng)
+    anchors = rs.template_anchors(template, rng) if config.template_anchors else None
     if config.mode == "fit":
         if config.max_objects is not None:
             target = min(target, config.max_objects)
@@ -392,7 +439,7 @@ def synthesize(
     if len(template) > target:
         template = [template[i] for i in sorted(rng.permutation(len(template))[:target])]
         h.notes.append(f"template cut to {target} pieces by the object cap")
-    add_floor_furniture(h, template, st, rng)
+    add_floor_furniture(h, template, st, rng, anchors)
     expand(h, st, target, rng, config.k, once=offered_once(config.mode))
     if len(h) < target:
         h.notes.append(
