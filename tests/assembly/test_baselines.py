@@ -243,22 +243,25 @@ def test_gaussian_and_random_through_generate_scenes(tmp_path):
     pairs = tmp_path / "pairs"
     write_synthetic_pairs(pairs)
     spec = f"gaussian:{pairs}"  # (the synthetic pairs furnish a kitchen; few bedrooms)
+    seed, name = 2, "kitchen_0002"  # (their Gaussian fits few kitchens: seed 0 places none)
     out = tmp_path / "g"
     summary = generate_scenes(out, room="kitchen", model=spec, ablation=["no-gravity"],
-                              progress=False)  # fmt: skip
+                              progress=False, seed=seed)  # fmt: skip
     assert summary.request["model"] == spec and summary.request["ablation"] == ["no-gravity"]
-    assert summary.scenes["kitchen_0000"]["objects_placed"] > 0
-    first = (out / "kitchen_0000" / "scene.json").read_text()
+    assert summary.scenes[name]["objects_placed"] > 0
+    first = (out / name / "scene.json").read_text()
     again = tmp_path / "again"
-    generate_scenes(again, room="kitchen", model=spec, ablation="no-gravity", progress=False)
-    assert (again / "kitchen_0000" / "scene.json").read_text() == first
+    generate_scenes(
+        again, room="kitchen", model=spec, ablation="no-gravity", progress=False, seed=seed
+    )
+    assert (again / name / "scene.json").read_text() == first
     # a saved baseline loads as gaussian:FILE.json
     model = GaussianPlacement.from_spec(pairs)
     model.baseline.save(tmp_path / "b.json")
     saved = generate_scenes(tmp_path / "s", room="kitchen", model=f"gaussian:{tmp_path / 'b.json'}",
-                            ablation="no-gravity", progress=False)  # fmt: skip
-    placed = summary.scenes["kitchen_0000"]["objects_placed"]
-    assert saved.scenes["kitchen_0000"]["objects_placed"] == placed
+                            ablation="no-gravity", progress=False, seed=seed)  # fmt: skip
+    placed = summary.scenes[name]["objects_placed"]
+    assert saved.scenes[name]["objects_placed"] == placed
     # the default request keeps its old keys
     plain = generate_scenes(tmp_path / "r", room="kitchen", model="random", progress=False)
     assert set(plain.request) == {"room", "text", "mode", "max_objects", "model", "llm"}

@@ -143,7 +143,7 @@ def test_a_toilet_roll_resting_on_a_surface_stands_on_its_end_and_reads_back_so(
     spindle, it rolled off in the simulation); on its holder either style. Its seed alone
     rebuilds it (scene.json keeps the seed, read back by ``keep_assets``)."""
     from pair2scene.assembly.keep import keep_assets
-    from pair2scene.assembly.place import Placer
+    from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.hierarchy.tree import Hierarchy
     from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
 
@@ -152,7 +152,7 @@ def test_a_toilet_roll_resting_on_a_surface_stands_on_its_end_and_reads_back_so(
     spindle = h.add("toilet_paper_hanger", "wall")
     on_counter = h.add("toilet_paper", counter.id)
     on_spindle = h.add("toilet_paper", spindle.id)
-    placer = Placer(_NoDraws())
+    placer = Placer(_NoDraws(), config=AssemblyConfig(asset_library=False))  # (a mesh a roll)
     styles = {on_counter.id: set(), on_spindle.id: set()}
     room = Room("bathroom", np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]), 2.6)
     for seed in range(16):

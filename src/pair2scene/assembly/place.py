@@ -75,7 +75,7 @@ from pair2scene.assembly.rest import (
     on_floor,
     rest_on_surfaces,
 )
-from pair2scene.assembly.sizes import SizeTable
+from pair2scene.assembly.sizes import JITTER, SizeTable
 from pair2scene.assembly.walls import (
     CORNER_GAP_M,
     WallRules,
@@ -88,7 +88,7 @@ from pair2scene.assembly.walls import (
     within_reach,
 )
 from pair2scene.assets.forms import closed_by_walls, end_to_wall
-from pair2scene.assets.identity import asset_seed
+from pair2scene.assets.identity import asset_seed, library_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS
@@ -416,6 +416,16 @@ class AssemblyConfig:
     outline and, in ``beyond`` rooms, oval tables one a few centimetres above another: in
     30 fit rooms a type, 13 / 20 / 4 such pairs in bedrooms / living rooms / kitchens
     against 0 / 3 / 0 in the 38 / 38 / 39 real val rooms. False keeps only the mesh test."""
+    asset_library: bool = True
+    """Objects take their assets from a finite library, as ProcTHOR's rooms do from its
+    asset database: each size the size table observed for a category (1,551 over every
+    category) has one mesh (:func:`~pair2scene.assets.identity.library_seed`), and an
+    object's size is one of those, unjittered. The same assets come back scene after
+    scene, and a process encodes each one's cloud once (the layout model keeps the tokens
+    in memory and under the cache folder, :mod:`~pair2scene.model.token_store`): a warm
+    fit bedroom in 0.15 s instead of 0.32 s (docs/benchmarks.md). False: each object's
+    size is an observed one jittered by :data:`~pair2scene.assembly.sizes.JITTER` and its
+    mesh drawn anew, so every asset is new and encoded."""
     matching: bool = True
     """Floor objects of one category in a room are one model (size, style and mesh of the
     first) as often as in the training rooms
@@ -649,6 +659,14 @@ class Placer:
         (:attr:`AssemblyConfig.matching`)."""
         from pair2scene.assets.registry import generate
 
+        library = self.config.asset_library
+        jitter = 0.0 if library else JITTER
+
+        def mesh_seed(category: str, size, variant: int = 0) -> int:
+            if library:
+                return library_seed(category, size, variant)
+            return int(rng.integers(2**31))
+
         assets: dict[str, Asset] = dict(given or {})
         models: dict[str, Asset | None] = {}  # floor category -> the room's one model of it
         for item in hierarchy.sequence():
@@ -662,8 +680,8 @@ class Placer:
             rng = np.random.default_rng(asset_seed(node.id, seed))
             held = assets.get(item.support) if item.support != FLOOR else None
             if held is not None and hangs_on(node.category, held):  # a towel on its rail
-                size = hung_size(self.sizes.draw(node.category, rng, fits=draped), held)
-                assets[node.id] = generate(node.category, size, int(rng.integers(2**31)))
+                size = hung_size(self.sizes.draw(node.category, rng, jitter, fits=draped), held)
+                assets[node.id] = generate(node.category, size, mesh_seed(node.category, size))
                 continue
             margins = [None]
             if held is not None:
@@ -675,13 +693,13 @@ class Placer:
                     margins.insert(0, rule.overhang)
             for k, margin in enumerate(margins):
                 fits = None if margin is None else surface_fit(held, margin)
-                size = self.sizes.draw(node.category, rng, fits=fits,
+                size = self.sizes.draw(node.category, rng, jitter, fits=fits,
                                        mounted=on_wall(item.support))  # fmt: skip
                 # An integer seed for the mesh, recorded in scene.json: read back, the
                 # scene rebuilds exactly these shapes (assembly.keep.keep_assets).
-                asset = generate(node.category, size, int(rng.integers(2**31)))
+                asset = generate(node.category, size, mesh_seed(node.category, size))
                 if held is None or held.category not in HANGER_CATEGORIES:
-                    asset = self._resting_style(asset, size, rng)
+                    asset = self._resting_style(asset, size, mesh_seed)
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:
                     break  # (one drawn wider than its support can carry: as narrow as any)
             assets[node.id] = asset
@@ -692,18 +710,19 @@ class Placer:
         return assets
 
     @staticmethod
-    def _resting_style(asset: Asset, size: np.ndarray, rng: np.random.Generator) -> Asset:
+    def _resting_style(asset: Asset, size: np.ndarray, mesh_seed) -> Asset:
         """``asset``, or one of its category and ``size`` in the category's
-        :data:`RESTING_STYLE` when it has one and ``asset`` is not: drawn with further
-        seeds from ``rng`` (a seed builds the whole asset, its style too, so scene.json's
-        seed rebuilds it exactly; :data:`STYLE_TRIES` at most)."""
+        :data:`RESTING_STYLE` when it has one and ``asset`` is not: built with further
+        seeds, ``mesh_seed(category, size, k)`` for k = 1, 2, ... (a seed builds the whole
+        asset, its style too, so scene.json's seed rebuilds it exactly;
+        :data:`STYLE_TRIES` at most)."""
         from pair2scene.assets.registry import generate
 
         want = RESTING_STYLE.get(asset.category)
-        for _ in range(STYLE_TRIES):
+        for k in range(1, STYLE_TRIES + 1):
             if want is None or asset.style == want:
                 break
-            asset = generate(asset.category, size, int(rng.integers(2**31)))
+            asset = generate(asset.category, size, mesh_seed(asset.category, size, k))
         return asset
 
     def place(

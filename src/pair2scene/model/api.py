@@ -30,6 +30,7 @@ import numpy as np
 from threadpoolctl import ThreadpoolController
 
 from pair2scene.assets.mesh import Asset
+from pair2scene.assets.pointcloud import cache_key
 from pair2scene.curation.dataset import PairsDataset
 from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, frame_choice
 from pair2scene.model.checkpoint import (
@@ -46,6 +47,7 @@ from pair2scene.model.config import (
 )
 from pair2scene.model.config import LayoutVariant as Variant
 from pair2scene.model.features import (
+    CLOUD_SEED,
     TupleArrays,
     asset_cloud,
     box_of,
@@ -69,6 +71,7 @@ from pair2scene.model.np_layout import (
     window_log_mass,
 )
 from pair2scene.model.np_pointmae import NumpyPointMAE, encoder_state
+from pair2scene.model.token_store import TokenStore, encoder_digest
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, WALL
 
@@ -77,8 +80,10 @@ if TYPE_CHECKING:
 
 EVAL_BATCH = 256
 """Tuples per forward pass when scoring."""
-TOKEN_CACHE_ENTRIES = 512
-"""Encoded clouds :class:`LayoutModel` keeps (one per distinct asset of a scene)."""
+TOKEN_CACHE_ENTRIES = 2048
+"""Encoded clouds :class:`LayoutModel` keeps in memory, by cloud and by asset: more than the
+asset library a room type draws from (1,551 observed sizes over every category), so a
+process making rooms of one type soon encodes nothing (16 kB each)."""
 
 
 class CloudInputs:
@@ -216,13 +221,20 @@ class LayoutModel:
     Built from a checkpoint read without torch (:func:`read_checkpoint`; what
     :meth:`from_pretrained` does) or from a torch :class:`Checkpoint` (a network in memory,
     as training has it). Sampling always runs on the numpy twins of its weights; the torch
-    network (:attr:`checkpoint`) is built when scoring first asks for it."""
+    network (:attr:`checkpoint`) is built when scoring first asks for it. ``token_store``:
+    keep assets' encoder tokens under the cache folder for later processes
+    (:attr:`token_store`); False: in memory only."""
 
     honours_temperature = True
     draws_in_frames = True
     """Whether this checkpoint has anchor frames (set per checkpoint when loaded)."""
 
-    def __init__(self, checkpoint: Checkpoint | CheckpointState, device: str = "cpu") -> None:
+    def __init__(
+        self,
+        checkpoint: Checkpoint | CheckpointState,
+        device: str = "cpu",
+        token_store: bool = True,
+    ) -> None:
         self._device = device  # (where scoring builds the torch network from a read one)
         if isinstance(checkpoint, CheckpointState):
             self._read: CheckpointState | None = checkpoint
@@ -247,7 +259,9 @@ class LayoutModel:
         self.draws_in_frames = self.config.uses_frames
         self._tokens: OrderedDict[bytes, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
-        self._asset_clouds: OrderedDict[int, tuple[Asset, np.ndarray]] = OrderedDict()
+        self._asset_tokens: OrderedDict[int, tuple[Asset, tuple]] = OrderedDict()
+        self._store: TokenStore | bool = token_store and self.point_net is not None
+        self._state = state  # (hashed for the token store's folder when first needed)
 
     @classmethod
     def from_pretrained(cls, path: str | Path | None = None, device: str = "cpu") -> LayoutModel:
@@ -335,7 +349,8 @@ class LayoutModel:
             self._tokens.popitem(last=False)
         return hit
 
-    def _anchor_cloud(self, anchor: Anchor) -> np.ndarray:
+    def _anchor_cloud(self, anchor: Anchor) -> np.ndarray | Asset:
+        """An anchor's cloud, or its asset (:meth:`_asset_encoded` encodes it)."""
         if anchor.cloud is not None:
             return anchor.cloud
         if anchor.is_floor:
@@ -343,21 +358,40 @@ class LayoutModel:
         if anchor.is_wall:
             return wall_cloud(anchor.box.size, self.n_points)
         if anchor.asset is not None:
-            return self._cloud_of(anchor.asset)
+            return anchor.asset
         return _procedural_cloud(anchor.category, anchor.box.size, self.n_points)
 
-    def _cloud_of(self, asset: Asset) -> np.ndarray:
-        """An asset's cloud, kept while the asset is (placement asks for a support's cloud
-        once per dependent)."""
-        hit = self._asset_clouds.get(id(asset))
+    @property
+    def token_store(self) -> TokenStore | None:
+        """Where assets' tokens are kept between processes
+        (:mod:`~pair2scene.model.token_store`, under the cache folder); None: nowhere (the
+        model was built with ``token_store=False``, or has no point encoder)."""
+        if self._store is True:
+            self._store = TokenStore(encoder_digest(encoder_state(self._state), self._n_points))
+        return self._store or None
+
+    def _asset_encoded(self, asset: Asset) -> tuple[np.ndarray, np.ndarray]:
+        """Tokens and centres of an asset's cloud: kept in memory while the asset is,
+        read from :attr:`token_store` when a process encoded it before, else encoded
+        (:meth:`_encode`) and stored. The asset's cloud is only built to encode it."""
+        hit = self._asset_tokens.get(id(asset))
         if hit is not None and hit[0] is asset:
-            self._asset_clouds.move_to_end(id(asset))
+            self._asset_tokens.move_to_end(id(asset))
             return hit[1]
-        cloud = asset_cloud(asset, self.n_points)
-        self._asset_clouds[id(asset)] = (asset, cloud)
-        if len(self._asset_clouds) > TOKEN_CACHE_ENTRIES:
-            self._asset_clouds.popitem(last=False)
-        return cloud
+        found = key = None
+        store = self.token_store
+        if store is not None:
+            enc = self.point_net.config
+            key = cache_key(asset, self.n_points, CLOUD_SEED)
+            found = store.get(key, (enc.n_groups, enc.width))
+        if found is None:
+            found = self._encode(asset_cloud(asset, self.n_points))
+            if store is not None:
+                store.put(key, *found)
+        self._asset_tokens[id(asset)] = (asset, found)
+        if len(self._asset_tokens) > TOKEN_CACHE_ENTRIES:
+            self._asset_tokens.popitem(last=False)
+        return found
 
     def frame(self, query: PlacementQuery) -> tuple[int, OrientedBox]:
         """(frame kind, frame box) ``query`` is drawn in: its governing anchor's frame
@@ -381,7 +415,7 @@ class LayoutModel:
         boxes = np.zeros((b, 2, BOX_DIM), np.float32)
         mask = np.zeros((b, 3), dtype=bool)
         factors = np.ones((b, 3))
-        clouds: list[list[np.ndarray | None]] = []
+        clouds: list[list[np.ndarray | Asset | None]] = []
         uses_points = self.config.uses_points
         for i, q in enumerate(queries):
             sup = q.support
@@ -407,7 +441,7 @@ class LayoutModel:
             cats[i, 0] = category_index(q.category)
             scales[i, 0] = np.asarray(q.size, dtype=np.float32)
             mask[i, 0] = True
-            row_clouds: list[np.ndarray | None] = [None, None, None]
+            row_clouds: list[np.ndarray | Asset | None] = [None, None, None]
             for m in (SUPPORT, FUNCTIONAL):
                 a = members[m]
                 if a is None:
@@ -421,7 +455,7 @@ class LayoutModel:
                 if q.cloud is not None:
                     row_clouds[0] = q.cloud
                 elif q.asset is not None:
-                    row_clouds[0] = self._cloud_of(q.asset)
+                    row_clouds[0] = q.asset
                 else:
                     row_clouds[0] = _procedural_cloud(q.category, q.size, self.n_points)
             clouds.append(row_clouds)
@@ -436,7 +470,9 @@ class LayoutModel:
             centers = np.zeros((b, 3, enc.n_groups, 3), np.float32)
             for i, row in enumerate(clouds):
                 for m, cloud in enumerate(row):
-                    if cloud is not None:
+                    if isinstance(cloud, Asset):
+                        tokens[i, m], centers[i, m] = self._asset_encoded(cloud)
+                    elif cloud is not None:
                         tokens[i, m], centers[i, m] = self._encode(cloud)
             inputs["point_tokens"], inputs["point_centers"] = tokens, centers
         return inputs, factors
