@@ -950,9 +950,9 @@ class Placer:
                         node.category,
                         asset_seed(node.id, seed),
                         asset.size,
-                        self._anchored(functional),
-                        self._under(node.id in backed),
-                        seats,
+                        anchored=self._anchored(functional),
+                        under=self._under(node.id in backed),
+                        seats=seats,
                     )
                 )
             ):
@@ -1148,8 +1148,9 @@ class Placer:
         size = np.asarray(query.size, float)
         anchored = self._anchored(query.functional)
         if not backed and not self.walls.against_wall(
-            room.type, node.category, seed_, size, anchored, self._under(False), seats
-        ):
+            room.type, node.category, seed_, size,
+            anchored=anchored, under=self._under(False), seats=seats,
+        ):  # fmt: skip
             return []
         width, depth = size[:2]  # along the wall and into the room
         if turned:
@@ -1187,9 +1188,9 @@ class Placer:
                 node.category,
                 asset_seed(node.id, seed),
                 size,
-                anchored,
-                self._under(False),
-                seats,
+                anchored=anchored,
+                under=self._under(False),
+                seats=seats,
             )
         )
 

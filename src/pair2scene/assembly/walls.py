@@ -113,89 +113,47 @@ class WallRules:
         close = gaps[1] / gaps[0] if gaps is not None and gaps[0] >= MIN_GAP_PAIRS else None
         return cls(rates, distances, corners, sideways, close)
 
-    def rate(
-        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
-    ) -> float:
+    def rate(self, room_type: str, category: str, size=None, **split) -> float:
         """Share of ``category``'s floor objects in ``room_type`` rooms against a wall (over
         every room type when this one never held it; 0 when none did). With the object's
         ``size``, the share of its form's (an L counter's, :func:`form_key`) where the
         statistics counted enough of that form in ``room_type`` (:data:`MIN_FORM_OBJECTS`).
-        With ``anchored`` (True: the object's functional anchor stands in the room; False:
-        it has none), the share of the category's objects with an anchor, or of those
-        alone, where enough were counted (:data:`MIN_SPLIT_OBJECTS`): a kitchen chair at a
-        table 0.21, alone 0.80. With ``under`` (True: a painting, mirror or wall lamp hangs
-        over the object; False: none does), the share of those objects, or of the others,
-        where enough were counted (:func:`~pair2scene.curation.stats.under_key`): a
-        living-room sofa with nothing hung over it, 0.79 instead of 0.82. With ``seats``
-        (a table's seats, :data:`~pair2scene.categories.SEATED_AT`), the share of the
-        category's objects with that many (:func:`~pair2scene.curation.stats.seats_key`),
-        where enough were counted, in place of ``anchored``'s: a living-room dining table
-        with no chair 1.00, with four 0.00."""
-        return _share(self.rates, room_type, category, size, anchored, under, seats)
+        ``split`` narrows the share to the category's objects like this one, where enough
+        were counted (:data:`MIN_SPLIT_OBJECTS`; :func:`_share`): ``anchored`` (True: its
+        functional anchor stands in the room; False: it has none; a kitchen chair at a
+        table 0.21, alone 0.80), ``under`` (True: a painting, mirror or wall lamp hangs
+        over it, :func:`~pair2scene.curation.stats.under_key`; a living-room sofa with
+        nothing hung over it, 0.79 instead of 0.82) and ``seats`` (a table's seats,
+        :func:`~pair2scene.curation.stats.seats_key`, in place of ``anchored``: a
+        living-room dining table with no chair 1.00, with four 0.00)."""
+        return _share(self.rates, room_type, category, size, **split)
 
-    def against_wall(
-        self,
-        room_type: str,
-        category: str,
-        seed: int,
-        size=None,
-        anchored=None,
-        under=None,
-        seats=None,
-    ) -> bool:
-        """Whether an object (``seed``: its asset seed; ``size``: its box, for its form;
-        ``anchored``, ``under`` and ``seats``: as :meth:`rate`) stands against a wall: a
-        draw."""
-        u = np.random.default_rng([seed, _SALT]).random()
-        return bool(u < self.rate(room_type, category, size, anchored, under, seats))
+    def against_wall(self, room_type: str, category: str, seed: int, size=None, **split) -> bool:
+        """Whether an object (``seed``: its asset seed; ``size``, ``split``: as :meth:`rate`)
+        stands against a wall: a draw."""
+        return _drawn(self.rates, _SALT, room_type, category, seed, size, split)
 
-    def corner_rate(
-        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
-    ) -> float:
+    def corner_rate(self, room_type: str, category: str, size=None, **split) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
         in a corner (over every room type when this one never had one against a wall; of
-        its form's with ``size``, of those with or without an anchor, with or without a
-        wall object over them, by their seats, as :meth:`rate`)."""
-        return _share(self.corners, room_type, category, size, anchored, under, seats)
+        its form's with ``size`` and of those like it, ``split``, as :meth:`rate`)."""
+        return _share(self.corners, room_type, category, size, **split)
 
-    def in_corner(
-        self,
-        room_type: str,
-        category: str,
-        seed: int,
-        size=None,
-        anchored=None,
-        under=None,
-        seats=None,
-    ) -> bool:
+    def in_corner(self, room_type: str, category: str, seed: int, size=None, **split) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands in a corner:
         a draw, independent of the wall draw."""
-        u = np.random.default_rng([seed, _CORNER_SALT]).random()
-        return bool(u < self.corner_rate(room_type, category, size, anchored, under, seats))
+        return _drawn(self.corners, _CORNER_SALT, room_type, category, seed, size, split)
 
-    def sideways_rate(
-        self, room_type: str, category: str, size=None, anchored=None, under=None, seats=None
-    ) -> float:
+    def sideways_rate(self, room_type: str, category: str, size=None, **split) -> float:
         """Share of ``category``'s objects against a wall in ``room_type`` rooms that stand
-        with a side, not their back, against it (pooled, of its form, of those with or
-        without an anchor, with or without a wall object over them and by their seats,
+        with a side, not their back, against it (pooled, of its form and of those like it,
         as :meth:`rate`)."""
-        return _share(self.sideways, room_type, category, size, anchored, under, seats)
+        return _share(self.sideways, room_type, category, size, **split)
 
-    def turned(
-        self,
-        room_type: str,
-        category: str,
-        seed: int,
-        size=None,
-        anchored=None,
-        under=None,
-        seats=None,
-    ) -> bool:
+    def turned(self, room_type: str, category: str, seed: int, size=None, **split) -> bool:
         """Whether an object against a wall (``seed``: its asset seed) stands sideways to
         it: a draw, independent of the wall and corner draws."""
-        u = np.random.default_rng([seed, _SIDEWAYS_SALT]).random()
-        return bool(u < self.sideways_rate(room_type, category, size, anchored, under, seats))
+        return _drawn(self.sideways, _SIDEWAYS_SALT, room_type, category, seed, size, split)
 
     def keeps_apart(self, seed: int) -> bool:
         """Whether a mounted object (``seed``: its asset seed) hangs at least
@@ -228,11 +186,18 @@ def _key(
     return form if n >= MIN_FORM_OBJECTS else category
 
 
+def _drawn(table, salt: int, room_type: str, category: str, seed: int, size, split) -> bool:
+    """A draw seeded by the object (``seed``) and ``salt``, true with :func:`_share`."""
+    u = np.random.default_rng([seed, salt]).random()
+    return bool(u < _share(table, room_type, category, size, **split))
+
+
 def _share(
     table: dict[str, dict[str, tuple[float, float]]],
     room_type: str,
     category: str,
     size=None,
+    *,
     anchored: bool | None = None,
     under: bool | None = None,
     seats: int | None = None,

@@ -203,22 +203,28 @@ class PointCloudCache:
     @staticmethod
     def _load(path: Path, n: int) -> np.ndarray | None:
         """The cached (n, 6) float32 array, or None (missing; corrupt files are deleted)."""
-        try:
-            data = np.load(path, allow_pickle=False)
-        except FileNotFoundError:
-            return None
-        except (OSError, ValueError, EOFError):
-            data = None
-        if (
-            isinstance(data, np.ndarray)
-            and data.dtype == np.float32
-            and data.shape == (n, 6)
-            and np.isfinite(data).all()
-        ):
-            return data
-        with contextlib.suppress(OSError):
-            os.unlink(path)
+        return load_cached(path, (n, 6))
+
+
+def load_cached(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
+    """The finite float32 array of ``shape`` a cache file holds, or None: missing, or
+    not such an array (unreadable, another shape: the file is deleted, to be rebuilt)."""
+    try:
+        data = np.load(path, allow_pickle=False)
+    except FileNotFoundError:
         return None
+    except (OSError, ValueError, EOFError):
+        data = None
+    if (
+        isinstance(data, np.ndarray)
+        and data.dtype == np.float32
+        and data.shape == tuple(shape)
+        and np.isfinite(data).all()
+    ):
+        return data
+    with contextlib.suppress(OSError):
+        os.unlink(path)
+    return None
 
 
 _DEFAULT: PointCloudCache | None = None

@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import os
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
+from pair2scene.assets.pointcloud import load_cached
 from pair2scene.io.atomic import atomic_open
 from pair2scene.paths import cache_dir
 
@@ -59,24 +59,11 @@ class TokenStore:
     def get(self, key: str, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray] | None:
         """(tokens, centres) stored under ``key`` for tokens of ``shape`` (G, D), or None
         (missing; an unreadable or mis-shaped file is deleted)."""
-        path = self.path(key)
-        try:
-            data = np.load(path, allow_pickle=False)
-        except FileNotFoundError:
-            return None
-        except (OSError, ValueError, EOFError):
-            data = None
         g, d = shape
-        if (
-            isinstance(data, np.ndarray)
-            and data.dtype == np.float32
-            and data.shape == (g, d + 3)
-            and np.isfinite(data).all()
-        ):
-            return np.ascontiguousarray(data[:, :d]), np.ascontiguousarray(data[:, d:])
-        with contextlib.suppress(OSError):
-            os.unlink(path)
-        return None
+        data = load_cached(self.path(key), (g, d + 3))
+        if data is None:
+            return None
+        return np.ascontiguousarray(data[:, :d]), np.ascontiguousarray(data[:, d:])
 
     def put(self, key: str, tokens: np.ndarray, centers: np.ndarray) -> None:
         """Store an asset's tokens (G, D) and centres (G, 3); an unwritable cache folder
