@@ -30,6 +30,11 @@ def test_tokens_come_back_bit_for_bit_and_bad_files_are_recomputed(tmp_path):
     store.path("k2").write_bytes(b"not an array")
     assert store.get("k2", (G, D)) is None and not store.path("k2").exists()
     assert not list(tmp_path.rglob("*.tmp"))  # written to a temporary name, then renamed
+    left = store.path("k3").parent / ".k3.npy.abcdefgh.tmp"  # what a killed write left
+    left.parent.mkdir(parents=True, exist_ok=True)
+    left.write_bytes(b"half")
+    store.put("k3", tokens, centers)
+    assert not left.exists() and store.get("k3", (G, D)) is not None
 
 
 def test_an_unwritable_store_costs_only_the_encoding(tmp_path):

@@ -15,7 +15,8 @@ hashes its category, style, size and mesh bytes. A file holds one (G, D + 3) flo
 array, the tokens then the centres, the very bits the encoder gave: a scene comes out
 the same whether its tokens were read or computed. A file that cannot be read back as
 that array is deleted and computed again; files are written to a temporary name and
-renamed, so an interrupted run leaves none half-written.
+renamed, so an interrupted run leaves none half-written (and the next write of that asset
+removes the temporary file a killed one left).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.assets.pointcloud import load_cached
-from pair2scene.io.atomic import atomic_open
+from pair2scene.io.atomic import atomic_open, remove_stale_temporaries
 from pair2scene.paths import cache_dir
 
 STORE_FORMAT = 1
@@ -66,8 +67,11 @@ class TokenStore:
         return np.ascontiguousarray(data[:, :d]), np.ascontiguousarray(data[:, d:])
 
     def put(self, key: str, tokens: np.ndarray, centers: np.ndarray) -> None:
-        """Store an asset's tokens (G, D) and centres (G, 3); an unwritable cache folder
-        only costs the next process the encoding."""
+        """Store an asset's tokens (G, D) and centres (G, 3), first removing what a killed
+        process left of writing them; an unwritable cache folder only costs the next
+        process the encoding."""
+        path = self.path(key)
+        remove_stale_temporaries(path.parent, path.name)
         data = np.concatenate([tokens, centers], axis=1).astype(np.float32, copy=False)
-        with contextlib.suppress(OSError), atomic_open(self.path(key), "wb") as fh:
+        with contextlib.suppress(OSError), atomic_open(path, "wb") as fh:
             np.save(fh, data, allow_pickle=False)
