@@ -113,3 +113,31 @@ def test_the_library_gives_one_mesh_per_observed_size(tmp_path, monkeypatch):
     bed = next(a for a in p2s.generate(room="bedroom", seed=0).assets.values()
                if a.category == "bed")  # fmt: skip
     assert not np.isclose(observed, bed.size).all(1).any()  # jittered
+
+
+def test_the_library_encoded_once_ahead(tmp_path, monkeypatch):
+    """``library_assets`` builds each observed size's asset as generation does (a wall
+    size turned wider than deep); ``store_tokens`` encodes those not stored yet."""
+    from pair2scene.assembly.place import library_assets
+    from pair2scene.assembly.sizes import SizeTable
+    from pair2scene.assets.identity import library_seed
+    from pair2scene.model.api import LayoutModel
+
+    monkeypatch.setenv("PAIR2SCENE_CACHE", str(tmp_path))
+    sizes = SizeTable({"chair": np.array([[0.5, 0.5, 0.9], [0.45, 0.5, 0.85]]),
+                       "painting@wall": np.array([[0.04, 0.8, 0.6]])})  # fmt: skip
+    assets = list(library_assets(sizes))
+    assert [a.category for a in assets] == ["chair", "chair", "painting"]
+    np.testing.assert_allclose(assets[2].size, [0.8, 0.04, 0.6])
+    assert assets[0].extra["seed"] == library_seed("chair", [0.5, 0.5, 0.9])
+    model = LayoutModel.from_pretrained()
+    assert model.store_tokens(assets) == (3, 3)
+    assert LayoutModel.from_pretrained().store_tokens(library_assets(sizes)) == (3, 0)
+
+
+def test_cli_tokens_refuses_a_missing_model(tmp_path):
+    from clitools import run_cli
+
+    proc = run_cli("assets", "tokens", "--model", str(tmp_path / "nope"))
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+    assert "nope" in proc.stderr and "Traceback" not in proc.stderr

@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 import time
 from collections import Counter
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -92,6 +93,7 @@ from pair2scene.assets.identity import asset_seed, library_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS
+from pair2scene.curation.stats import split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
@@ -571,6 +573,26 @@ def seated_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
     front = -side * anchor.rotation[:2, axis]
     yaw = float(np.arctan2(front[1], front[0])) - np.pi / 2
     return OrientedBox(centre, box.size, yaw_to_matrix(yaw))
+
+
+def library_assets(sizes: SizeTable) -> Iterator[Asset]:
+    """The asset library's assets (:attr:`AssemblyConfig.asset_library`), as
+    :meth:`Placer.assets_for` builds them: each category's observed sizes, standing and
+    mounted (from its wall sizes where the table has them, turned wider than deep), and a
+    category of :data:`RESTING_STYLE` in its resting style too. What the placer builds
+    besides (a towel cut to its rail) is met, and encoded, as generation goes."""
+    from pair2scene.assets.registry import generate
+
+    for key in sorted(sizes.sizes):
+        category, mounted = split_member(key)
+        rows = sizes.sizes[key]
+        if mounted:
+            rows = np.where((rows[:, 1] > rows[:, 0])[:, None], rows[:, [1, 0, 2]], rows)
+        for size in rows:
+            asset = generate(category, size, library_seed(category, size))
+            yield asset
+            if RESTING_STYLE.get(category, asset.style) != asset.style:
+                yield Placer._resting_style(asset, size, library_seed)
 
 
 def door_boxes(room: Room, depth: float, height: float) -> list[OrientedBox]:

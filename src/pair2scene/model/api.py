@@ -33,6 +33,7 @@ from pair2scene.assets.mesh import Asset
 from pair2scene.assets.pointcloud import cache_key
 from pair2scene.curation.dataset import PairsDataset
 from pair2scene.curation.frames import FRAME_FUNCTIONAL, FRAME_SUPPORT, frame_choice
+from pair2scene.errors import UserError
 from pair2scene.model.checkpoint import (
     Checkpoint,
     CheckpointState,
@@ -261,6 +262,7 @@ class LayoutModel:
         self._last_scores: tuple[PairsDataset, tuple[np.ndarray, np.ndarray]] | None = None
         self._asset_tokens: OrderedDict[int, tuple[Asset, tuple]] = OrderedDict()
         self._store: TokenStore | bool = token_store and self.point_net is not None
+        self._computed = 0  # assets encoded, not read from the store
         self._state = state  # (hashed for the token store's folder when first needed)
 
     @classmethod
@@ -370,6 +372,23 @@ class LayoutModel:
             self._store = TokenStore(encoder_digest(encoder_state(self._state), self._n_points))
         return self._store or None
 
+    def store_tokens(
+        self, assets, progress: bool = False, total: int | None = None
+    ) -> tuple[int, int]:
+        """Encode ``assets`` (an iterable of :class:`Asset`, about ``total`` of them, for
+        the progress bar) into :attr:`token_store`, those not there already: (assets, of
+        them newly encoded). What ``pair2scene assets tokens`` does with the asset library,
+        once, so that a machine's first rooms encode nothing."""
+        from pair2scene.progress import track
+
+        if self.token_store is None:
+            raise UserError("this model keeps no tokens (no point encoder, or no store)")
+        before, count = self._computed, 0
+        for asset in track(assets, "encoding the asset library", progress, total):
+            self._asset_encoded(asset)
+            count += 1
+        return count, self._computed - before
+
     def _asset_encoded(self, asset: Asset) -> tuple[np.ndarray, np.ndarray]:
         """Tokens and centres of an asset's cloud: kept in memory while the asset is,
         read from :attr:`token_store` when a process encoded it before, else encoded
@@ -386,6 +405,7 @@ class LayoutModel:
             found = store.get(key, (enc.n_groups, enc.width))
         if found is None:
             found = self._encode(asset_cloud(asset, self.n_points))
+            self._computed += 1
             if store is not None:
                 store.put(key, *found)
         self._asset_tokens[id(asset)] = (asset, found)
