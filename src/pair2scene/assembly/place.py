@@ -424,8 +424,9 @@ class AssemblyConfig:
     category) has one mesh (:func:`~pair2scene.assets.identity.library_seed`), and an
     object's size is one of those, unjittered. The same assets come back scene after
     scene, and a process encodes each one's cloud once (the layout model keeps the tokens
-    in memory and under the cache folder, :mod:`~pair2scene.model.token_store`): a warm
-    fit bedroom in 0.15 s instead of 0.32 s (docs/benchmarks.md). False: each object's
+    in memory and under the cache folder, :mod:`~pair2scene.model.token_store`; ``pair2scene
+    assets tokens`` encodes the whole library once): a warm fit bedroom in 0.18 s instead of
+    0.30 s (docs/benchmarks.md). False: each object's
     size is an observed one jittered by :data:`~pair2scene.assembly.sizes.JITTER` and its
     mesh drawn anew, so every asset is new and encoded."""
     matching: bool = True
