@@ -96,47 +96,21 @@ def torch_import(runs: int) -> float:
     return statistics.median(wall([sys.executable, "-c", "import torch"]) for _ in range(runs))
 
 
-def written(p2s, tmp: Path, seeds) -> list[float]:
-    """Seconds of each fit bedroom of ``seeds``, generated and its folder written."""
+def bedrooms(p2s, tmp: Path, seeds) -> tuple[list[float], dict[str, float], list]:
+    """Fit bedrooms of ``seeds``, each generated and its folder written: (seconds of each,
+    their mean time split, every bedroom's assets)."""
     from pair2scene.io.export import write_scene_folder
 
-    out = []
-    for seed in seeds:
-        t0 = time.perf_counter()
-        r = p2s.generate(room="bedroom", seed=seed)
-        write_scene_folder(tmp / f"first{seed}", r.scene, r.assets)
-        out.append(time.perf_counter() - t0)
-    return out
-
-
-def warm(tmp: Path, scenes: int):
-    """(median seconds of a written fit bedroom with the token store empty, seconds to
-    encode the library into it, median seconds of a written fit bedroom then, its mean
-    time split, {objects asked: (median seconds, median objects placed) of beyond
-    bedrooms}, :func:`encoder_batching` of the fit bedrooms). Runs in the caller's cache
-    folder, which its later commands share."""
-    from pair2scene import Pair2Scene
-    from pair2scene.assembly.place import library_assets
-    from pair2scene.generate import set_threads
-    from pair2scene.io.export import write_scene_folder
-
-    set_threads()  # the CLI's default, as the commands below run
-    p2s = Pair2Scene.from_pretrained()
-    p2s.generate(room="bedroom", seed=10_000)  # imports, first clouds
-    empty = statistics.median(written(p2s, tmp, range(30_000, 30_000 + scenes)))
-    t0 = time.perf_counter()
-    p2s.model.store_tokens(library_assets(p2s.placer.sizes))
-    library = time.perf_counter() - t0
-    fit = []
-    assets: list = []  # every fit bedroom's, for encoder_batching
+    times: list[float] = []
+    assets: list = []
     split: dict[str, float] = {}
-    for seed in range(scenes):
+    for seed in seeds:
         t0 = time.perf_counter()
         r = p2s.generate(room="bedroom", seed=seed)
         t1 = time.perf_counter()
         write_scene_folder(tmp / f"warm{seed}", r.scene, r.assets)
         t2 = time.perf_counter()
-        fit.append(t2 - t0)
+        times.append(t2 - t0)
         assets.extend(r.assets.values())
         took = r.stats.assembly.seconds
         parts = {
@@ -148,7 +122,28 @@ def warm(tmp: Path, scenes: int):
             "writing the folder (json, glb, png, html)": t2 - t1,
         }  # fmt: skip
         for k, v in parts.items():
-            split[k] = split.get(k, 0.0) + v / scenes
+            split[k] = split.get(k, 0.0) + v / len(seeds)
+    return times, split, assets
+
+
+def warm(tmp: Path, scenes: int):
+    """(median seconds of a written fit bedroom with the token store empty, seconds to
+    encode the library into it, median seconds of a written fit bedroom then, its mean
+    time split, {objects asked: (median seconds, median objects placed) of beyond
+    bedrooms}, :func:`encoder_batching` of the fit bedrooms). Runs in the caller's cache
+    folder, which its later commands share."""
+    from pair2scene import Pair2Scene
+    from pair2scene.assembly.place import library_assets
+    from pair2scene.generate import set_threads
+
+    set_threads()  # the CLI's default, as the commands below run
+    p2s = Pair2Scene.from_pretrained()
+    p2s.generate(room="bedroom", seed=10_000)  # imports, first clouds
+    empty = statistics.median(bedrooms(p2s, tmp, range(30_000, 30_000 + scenes))[0])
+    t0 = time.perf_counter()
+    p2s.model.store_tokens(library_assets(p2s.placer.sizes))
+    library = time.perf_counter() - t0
+    fit, split, assets = bedrooms(p2s, tmp, range(scenes))
     beyond = {}
     for k, n in enumerate(SIZES):
         times, placed = [], []

@@ -76,7 +76,7 @@ from pair2scene.assembly.rest import (
     on_floor,
     rest_on_surfaces,
 )
-from pair2scene.assembly.sizes import JITTER, SizeTable
+from pair2scene.assembly.sizes import JITTER, SizeTable, wider_than_deep
 from pair2scene.assembly.walls import (
     CORNER_GAP_M,
     WallRules,
@@ -588,7 +588,7 @@ def library_assets(sizes: SizeTable) -> Iterator[Asset]:
         category, mounted = split_member(key)
         rows = sizes.sizes[key]
         if mounted:
-            rows = np.where((rows[:, 1] > rows[:, 0])[:, None], rows[:, [1, 0, 2]], rows)
+            rows = wider_than_deep(rows)
         for size in rows:
             asset = generate(category, size, library_seed(category, size))
             yield asset

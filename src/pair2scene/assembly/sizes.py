@@ -35,6 +35,13 @@ JITTER = 0.05
 notices between two instances and far below the spread between categories."""
 
 
+def wider_than_deep(sizes: np.ndarray) -> np.ndarray:
+    """Sizes (..., 3) of objects hung on a wall, each turned a quarter where it is deeper
+    than wide (:meth:`SizeTable.draw`'s ``mounted``)."""
+    sizes = np.asarray(sizes)
+    return np.where((sizes[..., 1] > sizes[..., 0])[..., None], sizes[..., [1, 0, 2]], sizes)
+
+
 @dataclass
 class SizeTable:
     """Observed sizes per category."""
@@ -83,9 +90,7 @@ class SizeTable:
             observed = observed[ok] if ok.any() else observed[[np.argmin(observed[:, :2].prod(1))]]
         base = observed[int(rng.integers(len(observed)))]
         size = base * np.exp(rng.normal(0.0, jitter, 3))
-        if mounted and size[1] > size[0]:
-            size = size[[1, 0, 2]]
-        return size
+        return wider_than_deep(size) if mounted else size
 
     def footprint(self, category: str) -> float:
         """The median floor area (m2, width x depth) of ``category``'s observed sizes
