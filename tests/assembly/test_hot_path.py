@@ -224,3 +224,38 @@ def test_a_crowded_support_gives_up_later_and_names_its_option():
 
     assert table in placed(full) and placed(quick) == placed(full)
     assert not any("gave up" in d.reason for d in run(5, dense=False).stats.dropped)
+
+
+def test_a_dense_room_takes_its_own_number_of_push_outs(monkeypatch):
+    """``dense_push_attempts`` holds in beyond (dense) scenes only: with none allowed, a
+    crowded coffee table's bowls are never pushed out of a collision there, while a fit
+    scene with the same config pushes them (``push_attempts``)."""
+    pytest.importorskip("torch")
+    from dataclasses import replace
+
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.assembly.rooms import make_room
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.model import FLOOR
+
+    with pytest.raises(UserError, match="dense-push-attempts"):
+        AssemblyConfig(dense_push_attempts=-1)
+    assert AssemblyConfig(dense_push_attempts=None).dense_push_attempts is None
+    pushes = []
+    push_out = MeshWorld.push_out
+    monkeypatch.setattr(MeshWorld, "push_out", lambda *a: pushes.append(1) or push_out(*a))
+    model = from_pretrained()
+    room = make_room("bedroom", np.random.default_rng(0))
+    room = replace(room, floor_polygon=np.array([[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], float))
+    h = Hierarchy("bedroom")
+    table = h.add("coffee_table", FLOOR).id
+    for _ in range(8):
+        h.add("bowl", table)
+    h.validate()
+    placer = Placer(model, config=AssemblyConfig(candidates=16, batches=2, dense_push_attempts=0))
+    placer.place(h, room, seed=0)
+    assert pushes  # fit: push_attempts
+    pushes.clear()
+    dense = placer.place(h, room, seed=0, dense=True)
+    assert not pushes and dense.stats.rejections.get("collision")
