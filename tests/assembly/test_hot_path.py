@@ -188,24 +188,11 @@ def test_a_crowded_support_gives_up_later_and_names_its_option():
     option named; what was placed before it is as the full search places it; fit scenes
     still try every candidate."""
     pytest.importorskip("torch")
-    from dataclasses import replace
-
     from pair2scene.assembly.place import AssemblyConfig, Placer
-    from pair2scene.assembly.rooms import make_room
-    from pair2scene.hierarchy.tree import Hierarchy
-    from pair2scene.model import from_pretrained
-    from pair2scene.scene.model import FLOOR
 
     with pytest.raises(UserError, match="dense-give-up-support"):
         AssemblyConfig(dense_give_up_support=0)
-    model = from_pretrained()
-    room = make_room("bedroom", np.random.default_rng(0))
-    room = replace(room, floor_polygon=np.array([[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], float))
-    h = Hierarchy("bedroom")
-    table = h.add("coffee_table", FLOOR).id
-    for _ in range(24):
-        h.add("bowl", table)
-    h.validate()
+    model, room, h, table = _bowls_on_a_coffee_table(24)
 
     def run(give_up, dense=True):
         cfg = AssemblyConfig(candidates=16, batches=4, dense_give_up_support=give_up)
@@ -231,13 +218,7 @@ def test_a_dense_room_takes_its_own_number_of_push_outs(monkeypatch):
     crowded coffee table's bowls are never pushed out of a collision there, while a fit
     scene with the same config pushes them (``push_attempts``)."""
     pytest.importorskip("torch")
-    from dataclasses import replace
-
     from pair2scene.assembly.place import AssemblyConfig, Placer
-    from pair2scene.assembly.rooms import make_room
-    from pair2scene.hierarchy.tree import Hierarchy
-    from pair2scene.model import from_pretrained
-    from pair2scene.scene.model import FLOOR
 
     with pytest.raises(UserError, match="dense-push-attempts"):
         AssemblyConfig(dense_push_attempts=-1)
@@ -245,17 +226,30 @@ def test_a_dense_room_takes_its_own_number_of_push_outs(monkeypatch):
     pushes = []
     push_out = MeshWorld.push_out
     monkeypatch.setattr(MeshWorld, "push_out", lambda *a: pushes.append(1) or push_out(*a))
-    model = from_pretrained()
-    room = make_room("bedroom", np.random.default_rng(0))
-    room = replace(room, floor_polygon=np.array([[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], float))
-    h = Hierarchy("bedroom")
-    table = h.add("coffee_table", FLOOR).id
-    for _ in range(8):
-        h.add("bowl", table)
-    h.validate()
+    model, room, h, _ = _bowls_on_a_coffee_table(8)
     placer = Placer(model, config=AssemblyConfig(candidates=16, batches=2, dense_push_attempts=0))
     placer.place(h, room, seed=0)
     assert pushes  # fit: push_attempts
     pushes.clear()
     dense = placer.place(h, room, seed=0, dense=True)
     assert not pushes and dense.stats.rejections.get("collision")
+
+
+def _bowls_on_a_coffee_table(bowls: int):
+    """(the bundled layout model, a 3 m square bedroom, a hierarchy of a coffee table
+    carrying ``bowls`` bowls, the table's id): a support more crowded the more bowls."""
+    from dataclasses import replace
+
+    from pair2scene.assembly.rooms import make_room
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.model import FLOOR
+
+    room = make_room("bedroom", np.random.default_rng(0))
+    room = replace(room, floor_polygon=np.array([[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], float))
+    h = Hierarchy("bedroom")
+    table = h.add("coffee_table", FLOOR).id
+    for _ in range(bowls):
+        h.add("bowl", table)
+    h.validate()
+    return from_pretrained(), room, h, table
