@@ -183,6 +183,7 @@ class Pair2Scene:
                              anchors=AnchorRules.from_stats(self.stats),
                              spots=SpotRules.from_stats(self.stats),
                              same_model=self.stats.same_model_shares(),
+                             askew=self.stats.askew_shares(),
                              heights=MountHeights.from_stats(self.stats),
                              overlaps=FloorOverlaps.from_stats(self.stats),
                              top_free=self.stats.top_kept_free(

@@ -251,3 +251,34 @@ def test_impossible_template_anchors_are_a_user_error(pattern, message):
     doc["room_types"]["living_room"]["templates"][0]["anchored"] = [[pattern, 2]]
     with pytest.raises(UserError, match=f"malformed statistics.*{message}"):
         HierarchyStats.from_dict(doc, "stats.json")
+
+
+def test_free_standing_floor_objects_count_their_turn_off_the_walls():
+    """Chairs mid-room turned 0, 12 and 25 degrees and one against a wall turned 12: the
+    three free-standing ones are counted in their bins, the one by the wall not; the
+    counts survive JSON and merging, and a wrong row is a user error."""
+    from pair2scene.curation.stats import ASKEW_BINS_DEG, askew_bin
+
+    def chair(oid, xy, degrees):
+        box = OrientedBox.from_yaw([*xy, 0.45], [0.45, 0.45, 0.9], np.radians(degrees))
+        return SceneObject(oid, "chair", box, None, FLOOR, None)
+
+    # (c3: its box reaches the wall y = 0)
+    chairs = [chair("c0", [2, 2], 0), chair("c1", [1, 2], 12), chair("c2", [3, 2], -25),
+              chair("c3", [2, 0.24], 12)]  # fmt: skip
+    scene = Scene("s", Room("living_room", ROOM), chairs, source="test", split="train")
+    stats = HierarchyStats.fit([scene])
+    assert [askew_bin(np.radians(d)) for d in (0, 12, -25, 89, 46)] == [0, 2, 4, 0, 5]
+    assert stats.askew == {"chair": [1, 0, 1, 0, 1, 0]}
+    back = HierarchyStats.from_json(stats.to_json())
+    assert back.askew == stats.askew
+    assert HierarchyStats.merge([stats, stats]).askew == {"chair": [2, 0, 2, 0, 2, 0]}
+    shares = HierarchyStats.merge([stats] * 7).askew_shares()
+    np.testing.assert_allclose(shares["chair"], [1 / 3, 0, 1 / 3, 0, 1 / 3, 0])
+    assert stats.askew_shares() == {}  # 3 objects: too few to say
+    doc = json.loads(stats.to_json())
+    del doc["askew"]
+    assert HierarchyStats.from_dict(doc).askew is None  # written before it was kept
+    doc["askew"] = {"chair": [1, 2]}
+    with pytest.raises(UserError, match=f"askew of chair: {len(ASKEW_BINS_DEG)} counts"):
+        HierarchyStats.from_dict(doc, "stats.json")

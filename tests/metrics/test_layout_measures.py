@@ -15,6 +15,7 @@ from pair2scene.metrics.layout import (
     beside_bed_head,
     chairs_facing_table,
     chairs_per_table,
+    floor_askew,
     layout_measures,
     layout_report,
     nightstands_at_bed_head,
@@ -215,6 +216,21 @@ def test_nightstand_in_a_turned_bed_frame():
 
 
 # -- geometry helpers ------------------------------------------------------------------
+def test_floor_objects_turned_off_the_walls_axes():
+    """A chair left 12 degrees off, one turned a full quarter and one 4 degrees off (square),
+    an armchair at 40 degrees (-50 from the next axis) and a book on the table (not on the
+    floor): two of four floor objects are askew."""
+    scene = room(
+        obj("c1", "chair", [1, 1], [0.45, 0.45, 0.9], yaw=np.radians(12)),
+        obj("c2", "chair", [2, 1], [0.45, 0.45, 0.9], yaw=np.radians(90)),
+        obj("c3", "chair", [3, 1], [0.45, 0.45, 0.9], yaw=np.radians(-4)),
+        obj("a1", "armchair", [2, 3], [0.8, 0.8, 0.9], yaw=np.radians(40)),
+        obj("bk", "book", [1, 1], [0.2, 0.15, 0.03], support="c1", z=0.5, yaw=0.3),
+    )
+    assert floor_askew(scene) == [2, 4]
+    assert layout_measures(scene)["floor_askew"] == [2, 4]
+
+
 def test_footprint_gap_and_nearest_point():
     a = footprint(OrientedBox.from_yaw([0, 0, 0.5], [2, 2, 1]))
     b = footprint(OrientedBox.from_yaw([3, 0, 0.5], [2, 2, 1], np.pi / 4))  # diamond

@@ -93,7 +93,7 @@ from pair2scene.assets.identity import asset_seed, library_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
 from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS
-from pair2scene.curation.stats import split_member
+from pair2scene.curation.stats import ASKEW_BINS_DEG, split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
@@ -171,6 +171,8 @@ away or standing too far from it (``faces_away``, ``far_from_anchor``), that are
 again seated at it (:func:`seated_at`) when no candidate passed. In 120 fit living rooms
 16 chairs found no candidate at their table: at a small round table the model drew every
 candidate of the second chair on turned aside or a metre off."""
+ASKEW_SALT = 211
+"""Salt of the draw of a floor object's turn off the walls' axes (:meth:`Placer._tilt`)."""
 CROWD_RETRIES = 32
 """Candidates of a mounted object rejected only for hanging close to another on its wall
 (``crowded``, :attr:`AssemblyConfig.wall_spacing`) that are tried again, close allowed,
@@ -441,6 +443,14 @@ class AssemblyConfig:
     first) as often as in the training rooms
     (:meth:`~pair2scene.curation.stats.HierarchyStats.same_model_shares`: a room's chairs
     match in 0.85 of them); False draws each object's model on its own."""
+    askew: bool = True
+    """Turn floor objects that stand free of the walls off the walls' axes as often and as
+    far as the training rooms' did, per category
+    (:meth:`~pair2scene.curation.stats.HierarchyStats.askew_shares`: 0.69 of the chairs,
+    most by 5-30 degrees, 0.62 of the floor lamps, 0.14 of the armchairs; no bed, sofa or
+    table). Each object draws its turn once (seeded by its id), within its bin; its
+    candidates are drawn square (``snap_yaw_deg``) and then turned by it. False: every
+    floor object stands square to the walls, as no real room's chairs do."""
     reject: bool = True
     """Ablation (``--ablation no-rejection``): False takes each object's first candidate
     (after the rest step when ``gravity``; left where drawn when nothing carries it) and
@@ -650,6 +660,7 @@ class Placer:
         same_model: dict[str, float] | None = None,
         heights: MountHeights | None = None,
         overlaps: FloorOverlaps | None = None,
+        askew: dict[str, np.ndarray] | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -679,6 +690,9 @@ class Placer:
         self.same_model = same_model or {}
         """Floor category -> share of training rooms whose objects of it are one model
         (:attr:`AssemblyConfig.matching`)."""
+        self.askew = askew or {}
+        """Floor category -> shares of its free-standing objects in each bin of turns off
+        the walls' axes (:attr:`AssemblyConfig.askew`)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -943,6 +957,7 @@ class Placer:
             context = _Context(item.support, placed, room, doors, others, ids, shape, world,
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
+            tilt = self._tilt(node.category, asset_seed(node.id, seed)) if on_floor_ else 0.0
             context.push_attempts = cfg.push_attempts
             if dense and cfg.dense_push_attempts is not None:
                 context.push_attempts = cfg.dense_push_attempts
@@ -1042,6 +1057,9 @@ class Placer:
                     boxes = boxes[:0]  # drawn (for the generator), not tried
                 for index, vec in enumerate(boxes):
                     drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
+                    if tilt and context.wall is None:  # free of the walls: as left
+                        drawn = OrientedBox(drawn.center, drawn.size,
+                                            yaw_to_matrix(drawn.yaw + tilt))  # fmt: skip
                     box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's
                     if not cfg.reject:
                         box, moved = self._unjudged(box, context)
@@ -1433,6 +1451,21 @@ class Placer:
         if rested is not None:
             return rested, shifted
         return (dropped(box, 0.0) if ctx.support == FLOOR else box), False
+
+    def _tilt(self, category: str, seed: int) -> float:
+        """The turn (radians, either way) off the walls' axes of a free-standing floor object
+        of ``category`` (``seed``: its asset seed), drawn with the category's shares
+        (:attr:`askew`), uniform within its bin; 0 for a square one or an unknown
+        category."""
+        shares = self.askew.get(category)
+        if shares is None or not self.config.askew:
+            return 0.0
+        rng = np.random.default_rng([seed, ASKEW_SALT])
+        b = int(rng.choice(len(shares), p=shares))
+        if b == 0:
+            return 0.0
+        low, high = ASKEW_BINS_DEG[b - 1], ASKEW_BINS_DEG[b]
+        return float(np.radians(rng.uniform(low, high)) * rng.choice((-1.0, 1.0)))
 
     def _repair(self, ctx: _Context) -> float:
         return self.config.floor_repair_m if ctx.support == FLOOR else self.config.repair_m

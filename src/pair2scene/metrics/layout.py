@@ -35,6 +35,10 @@ rooms, so the figures compare directly.
   objects: a side table under a dining table's edge, a lamp inside an armchair's
   outline. Seats tucked under what they are pulled up to (:data:`TUCKED`) are not
   counted: real rooms are full of them.
+- ``floor_askew``: floor objects turned more than 5 degrees off the walls' axes (every 90
+  degrees; :func:`~pair2scene.curation.stats.askew_bin`), out of the floor objects: real
+  rooms leave chairs as pulled out and turn armchairs, lamps and plants to the room (0.22
+  of the val living rooms' floor objects, 62 of 280).
 
 Only floor objects take part (:func:`on_floor`) — except televisions, which may hang on
 a wall or stand on their stand — and never structure or parts of furniture.
@@ -47,7 +51,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import one_over_another
+from pair2scene.curation.stats import askew_bin, one_over_another
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
@@ -115,6 +119,7 @@ MEASURES = (
     "sofas_facing_tv",
     "nightstands_at_bed_head",
     "floor_overlaps",
+    "floor_askew",
 )
 """The pooled measures, in the order they are reported."""
 _SKIPPED = (SuperCategory.STRUCTURE, SuperCategory.PART)
@@ -236,6 +241,12 @@ def floor_overlaps(scene: Scene) -> list[int]:
     return [len(over), len(floor)]
 
 
+def floor_askew(scene: Scene) -> list[int]:
+    """[floor objects turned off the walls' axes by more than 5 degrees, floor objects]."""
+    floor = _floor_objects(scene)
+    return [sum(askew_bin(o.box.yaw) > 0 for o in floor), len(floor)]
+
+
 def layout_measures(scene: Scene) -> dict[str, list[int]]:
     """Every measure of one room as [numerator, denominator]: the pooled ones of
     :data:`MEASURES` and ``against_wall/<category>`` for each floor category."""
@@ -257,6 +268,7 @@ def layout_measures(scene: Scene) -> dict[str, list[int]]:
         "sofas_facing_tv": sofas_facing_tv(scene),
         "nightstands_at_bed_head": nightstands_at_bed_head(scene),
         "floor_overlaps": floor_overlaps(scene),
+        "floor_askew": floor_askew(scene),
     }
     out.update({f"against_wall/{cat}": [n, d] for cat, (n, d, _) in walls.items()})
     out.update({f"in_corner/{cat}": [c, d] for cat, (_, d, c) in walls.items()})
