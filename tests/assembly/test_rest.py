@@ -15,7 +15,7 @@ from pair2scene.assembly.rest import (
 )
 from pair2scene.assets.registry import generate
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.scene.geometry import OrientedBox, rot_x
+from pair2scene.scene.geometry import OrientedBox, points_in_polygon, rot_x
 
 
 @pytest.fixture(scope="module")
@@ -136,3 +136,19 @@ def test_into_an_l_shaped_room_means_inside_its_floor_not_its_bounds():
     near = OrientedBox.from_yaw([1.2, 1.0, 0.45], [0.8, 0.5, 0.9], 0.0)  # 0.05 m over
     moved = into_room(near, floor, max_shift=0.1)
     assert moved is None or on_floor(moved, floor)
+
+
+def test_the_inner_corner_of_an_l_reaching_into_a_turned_box_leaves_it_outside():
+    """A chair turned 26 degrees by the inner corner of an L-shaped kitchen (seed 29 of a
+    fit kitchen, the first time floor objects stood turned): its four corners stand in
+    the room, but the floor's corner (1.67, 3.34) lies inside its footprint, so it reaches
+    through the wall (the simulation pushed it 22 cm). Turned square, or moved off the
+    corner, it stands in the room."""
+    floor = np.array([[0, 0], [3.34, 0], [3.34, 6.69], [1.67, 6.69], [1.67, 3.34], [0, 3.34]])
+    chair = OrientedBox.from_yaw([1.587, 3.13, 0.52], [0.451, 0.535, 1.043], np.radians(-63.8))
+    assert points_in_polygon(footprint(chair)[1:], floor).all()
+    assert not on_floor(chair, floor)
+    assert into_room(chair, floor) is None
+    square = OrientedBox.from_yaw([1.587, 3.0, 0.52], [0.451, 0.535, 1.043], np.radians(-90))
+    away = OrientedBox.from_yaw([2.5, 2.0, 0.52], [0.451, 0.535, 1.043], np.radians(-63.8))
+    assert on_floor(square, floor) and on_floor(away, floor)

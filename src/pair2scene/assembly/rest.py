@@ -148,11 +148,17 @@ def rest_on_surfaces(
 
 
 def on_floor(box: OrientedBox, floor_polygon: np.ndarray, tol: float = 1e-3) -> bool:
-    """Whether the whole footprint of ``box`` lies inside the room's floor polygon; a
-    corner within ``tol`` of a wall counts as inside (a box moved flush against a wall has
-    its corners on the boundary, where the even-odd test answers either way)."""
+    """Whether the whole footprint of ``box`` lies inside the room's floor polygon: its
+    corners inside, and no corner of the floor inside it (the inner corner of an L-shaped
+    room reaches into a box turned across it whose corners all stand in the room). A corner
+    within ``tol`` of a wall counts as inside (a box moved flush against a wall has its
+    corners on the boundary, where the even-odd test answers either way)."""
     h = np.maximum(box.half_size[:2] - tol, 0.0)
-    return bool(points_in_polygon(footprint(box, _rectangle(-h, h)), floor_polygon).all())
+    if not points_in_polygon(footprint(box, _rectangle(-h, h)), floor_polygon).all():
+        return False
+    poly = np.asarray(floor_polygon, float)
+    local = (poly - box.center[:2]) @ box.rotation[:2, :2]  # the floor's corners in its frame
+    return not bool((np.abs(local) < h).all(axis=1).any())
 
 
 def into_room(
