@@ -564,11 +564,11 @@ class HierarchyStats:
 
     askew: dict[str, list[int]] | None = field(default_factory=dict)
     """floor category -> how many of its objects standing free of the walls turned off the
-    walls' axes by how much (:func:`askew_bin`'s bins): in the training rooms 0.69 of the
-    chairs (most by 5-30 degrees: left as pulled out), 0.62 of the floor lamps and 0.87 of
-    the house plants, 0.14 of the armchairs (20-45 degrees: turned to the room), no bed,
-    sofa, dresser or table. None in statistics written before it was kept (then floor
-    objects stand square to the walls)."""
+    walls' axes by how much (:func:`askew_bin`'s bins): in the training rooms 0.75 of the
+    chairs (most by 5-30 degrees: left as pulled out), 0.78 of the floor lamps, 0.96 of
+    the house plants, 0.66 of the armchairs (most by 20-45 degrees: turned to the room),
+    0.04 of the sofas, no table or dresser. None in statistics written before it was kept
+    (then floor objects stand square to the walls)."""
 
     # -- fitting ------------------------------------------------------------------
     @classmethod
