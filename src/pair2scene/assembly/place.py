@@ -1018,7 +1018,7 @@ class Placer:
             missed = 0  # candidates rejected for want of room
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             halves: list[tuple] = []  # (candidate, wall, corner) rejected only as wrong_half
-            seats: list[OrientedBox] = []  # drawn candidates turned from or off their anchor
+            unseated: list[OrientedBox] = []  # drawn candidates turned from or off their anchor
             crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
             crowded: list[tuple] = []  # (candidate, wall, across) rejected only as crowded
             covering = None  # the first candidate that passed all but covering a wall object
@@ -1082,8 +1082,8 @@ class Placer:
                             strays.append(box)
                         if reason == "wrong_half" and len(halves) < HALF_RETRIES:
                             halves.append((box, context.wall, context.corner))
-                        if reason in SEAT_REASONS and len(seats) < SEAT_RETRIES:
-                            seats.append(box)
+                        if reason in SEAT_REASONS and len(unseated) < SEAT_RETRIES:
+                            unseated.append(box)
                         if reason == "crosswise" and len(crossed) < CROSS_RETRIES:
                             crossed.append(box)
                         if reason == "crowded" and len(crowded) < CROWD_RETRIES:
@@ -1130,14 +1130,14 @@ class Placer:
                 timer["collision"] += time.perf_counter() - t0
             if (
                 accepted is None
-                and seats
+                and unseated
                 and cfg.seat_at_anchor
                 and context.anchor is not None
                 and context.anchor.must_face
             ):  # turned from or off its anchor: seated at it
                 t0 = time.perf_counter()
                 at = context.anchor.anchor
-                seated = [(seated_at(b, at), None, None) for b in seats]  # (wherever the walls)
+                seated = [(seated_at(b, at), None, None) for b in unseated]  # (wherever the walls)
                 accepted = self._retried(seated, context, tried, stats, _as_drawn)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and covering is not None:  # better than not there at all
