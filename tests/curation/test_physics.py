@@ -63,10 +63,31 @@ def test_clean_scene_loses_nothing():
 def test_floating_mug_is_dropped():
     objs = _clean_objects()
     objs[1] = _moved(objs[1], dz=0.3)
-    out = validate_physics(_scene(objs))
+    out = validate_physics(_scene(objs), config=PhysicsConfig(max_fall_m=0.0))
     assert set(out.dropped) == {"mug_0"}
     assert out.dropped["mug_0"].startswith("moved")
     assert out.motion["mug_0"][0] > 0.25
+
+
+@pytest.mark.parametrize("dz", [0.3, 0.9])
+def test_mug_held_above_its_table_falls_onto_it_and_stays(dz):
+    """A spawn pose (ProcTHOR's pillows over a bed): it lands on the top, and is kept."""
+    objs = _clean_objects()
+    objs[1] = _moved(objs[1], dz=dz)
+    out = validate_physics(_scene(objs))
+    assert out.dropped == {}
+    assert out.fitted["mug_0"] == pytest.approx(-dz, abs=0.02)
+    assert out.motion["mug_0"][0] < 0.05
+
+
+def test_mug_far_above_its_table_or_beside_it_is_still_dropped():
+    objs = _clean_objects()
+    high = _moved(objs[1], dz=1.3)  # further than max_fall_m
+    beside = _moved(objs[1], dz=0.3, dx=0.45)  # its centre is past the table's edge
+    for mug in (high, beside):
+        out = validate_physics(_scene([objs[0], mug, objs[2]]))
+        assert set(out.dropped) == {"mug_0"}, out.dropped
+        assert "mug_0" not in out.fitted
 
 
 def test_book_half_off_the_edge_tips_and_is_dropped():
