@@ -127,6 +127,7 @@ LAYOUT = (
     ("layout", "nightstands_at_bed_head", "nightstand at bed"),
     ("layout", "floor_overlaps", "over/under another"),
     ("layout", "floor_askew", "turned off the walls"),
+    ("layout", "floor_isolated", "alone mid-room"),
     ("navigation", "reachable_free_floor", "reachable floor"),
     ("navigation", "rooms_reachable_0.97", "rooms >= 0.97"),
     ("navigation", "objects_reachable", "fronts reachable"),

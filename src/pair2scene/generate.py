@@ -184,6 +184,7 @@ class Pair2Scene:
                              spots=SpotRules.from_stats(self.stats),
                              same_model=self.stats.same_model_shares(),
                              askew=self.stats.askew_shares(),
+                             isolated=self.stats.isolated_shares(),
                              heights=MountHeights.from_stats(self.stats),
                              overlaps=FloorOverlaps.from_stats(self.stats),
                              top_free=self.stats.top_kept_free(

@@ -282,3 +282,32 @@ def test_free_standing_floor_objects_count_their_turn_off_the_walls():
     doc["askew"] = {"chair": [1, 2]}
     with pytest.raises(UserError, match=f"askew of chair: {len(ASKEW_BINS_DEG)} counts"):
         HierarchyStats.from_dict(doc, "stats.json")
+
+
+def test_floor_objects_standing_alone_are_counted_per_category():
+    """A plant mid-room (alone), one by a wall and two chairs side by side mid-room: one of
+    the plants stood alone, none of the chairs; the counts survive JSON and merging, give
+    shares from 20 objects on, and a wrong row is a user error."""
+
+    def thing(oid, category, xy, size=(0.4, 0.4, 0.8)):
+        box = OrientedBox.from_yaw([*xy, size[2] / 2], list(size), 0.0)
+        return SceneObject(oid, category, box, None, FLOOR, None)
+
+    objects = [thing("p0", "house_plant", [2.0, 3.0]), thing("p1", "house_plant", [0.3, 2.0]),
+               thing("c0", "chair", [1.6, 1.5]), thing("c1", "chair", [2.4, 1.5])]  # fmt: skip
+    scene = Scene("s", Room("living_room", ROOM), objects, source="test", split="train")
+    stats = HierarchyStats.fit([scene])
+    assert stats.isolated == {"house_plant": [1, 2], "chair": [0, 2]}
+    assert HierarchyStats.from_json(stats.to_json()).isolated == stats.isolated
+    merged = HierarchyStats.merge([stats] * 10)
+    assert merged.isolated == {"house_plant": [10, 20], "chair": [0, 20]}
+    assert merged.isolated_shares() == {"chair": 0.0, "house_plant": 0.5}
+    assert stats.isolated_shares() == {}  # 2 objects each: too few to say
+    doc = json.loads(stats.to_json())
+    del doc["isolated"]
+    assert HierarchyStats.from_dict(doc).isolated is None  # written before it was kept
+    assert HierarchyStats.merge([HierarchyStats.from_dict(doc), stats]).isolated is None
+    for row, message in (([3, 2], "3 alone of 2"), ([1], "ValueError"), ([-1, 2], "-1 alone")):
+        doc["isolated"] = {"chair": row}
+        with pytest.raises(UserError, match=message):
+            HierarchyStats.from_dict(doc, "stats.json")

@@ -16,6 +16,7 @@ from pair2scene.metrics.layout import (
     chairs_facing_table,
     chairs_per_table,
     floor_askew,
+    floor_isolated,
     layout_measures,
     layout_report,
     nightstands_at_bed_head,
@@ -24,7 +25,14 @@ from pair2scene.metrics.layout import (
 )
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
-from pair2scene.scene.relations import facing_angle, footprint, footprint_gap, nearest_point
+from pair2scene.scene.relations import (
+    facing_angle,
+    footprint,
+    footprint_gap,
+    nearest_point,
+    stands_alone,
+    wall_gap,
+)
 
 SQUARE = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
 L_SHAPE = np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], float)
@@ -229,6 +237,40 @@ def test_floor_objects_turned_off_the_walls_axes():
     )
     assert floor_askew(scene) == [2, 4]
     assert layout_measures(scene)["floor_askew"] == [2, 4]
+
+
+def test_floor_objects_standing_alone_in_the_room():
+    """In the 4 x 4 m room: a plant at the centre alone (1.8 m from the walls), a side
+    table 0.45 m from a wall (not alone), two chairs 0.4 m apart mid-room (each has
+    company), a book on a chair (not a floor object)."""
+    scene = room(
+        obj("p", "house_plant", [2.0, 2.0], [0.4, 0.4, 0.8]),
+        obj("t", "side_table", [0.7, 3.0], [0.5, 0.5, 0.6]),
+        obj("c1", "chair", [1.4, 1.0], [0.4, 0.4, 0.9]),
+        obj("c2", "chair", [2.2, 1.0], [0.4, 0.4, 0.9]),
+        obj("bk", "book", [1.4, 1.0], [0.2, 0.15, 0.03], support="c1", z=0.5),
+    )
+    assert floor_isolated(scene) == [1, 4]
+    assert layout_measures(scene)["floor_isolated"] == [1, 4]
+    lone = room(obj("p", "house_plant", [2.0, 2.0], [0.4, 0.4, 0.8]))
+    assert floor_isolated(lone) == [1, 1]
+    assert floor_isolated(room()) == [0, 0]
+
+
+def test_wall_gap_and_standing_alone_in_an_l_shaped_room():
+    """The L's reflex corner (2, 2) is a wall too: a box 0.28 m from it has company."""
+    near = footprint(OrientedBox.from_yaw([1.6, 1.6, 0.4], [0.4, 0.4, 0.8]))
+    assert wall_gap(near, L_SHAPE) == pytest.approx(np.hypot(0.2, 0.2))  # (1.8, 1.8) to (2, 2)
+    assert not stands_alone(near, L_SHAPE, [])
+    mid = footprint(OrientedBox.from_yaw([1.0, 1.0, 0.4], [0.4, 0.4, 0.8]))
+    assert wall_gap(mid, L_SHAPE) == pytest.approx(0.8)
+    assert stands_alone(mid, L_SHAPE, [])
+    assert not stands_alone(mid, L_SHAPE, [near])  # 0.2 m apart
+    far = footprint(OrientedBox.from_yaw([2.8, 1.0, 0.4], [0.4, 0.4, 0.8]))  # 1.4 m off
+    assert stands_alone(mid, L_SHAPE, [far])
+    other = footprint(OrientedBox.from_yaw([1.0, 1.8, 0.4], [0.4, 0.4, 0.8]))  # 0.4 m off
+    assert not stands_alone(mid, L_SHAPE, [far, other])
+    assert stands_alone(mid, L_SHAPE, [other], gap=0.3)
 
 
 def test_footprint_gap_and_nearest_point():

@@ -109,7 +109,8 @@ from pair2scene.scene.model import (
     wall_support,
 )
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
-from pair2scene.scene.relations import faces
+from pair2scene.scene.relations import faces, stands_alone
+from pair2scene.scene.relations import footprint as floor_outline
 from pair2scene.scene.walls import Wall, convex_ends, face_contacts, wall_contact, walls_of
 
 MAX_CANDIDATES = 100_000
@@ -173,6 +174,13 @@ again seated at it (:func:`seated_at`) when no candidate passed. In 120 fit livi
 candidate of the second chair on turned aside or a metre off."""
 ASKEW_SALT = 211
 """Salt of the draw of a floor object's turn off the walls' axes (:meth:`Placer._tilt`)."""
+ALONE_SALT = 223
+"""Salt of the draw of whether a floor object may stand alone in the room
+(:meth:`Placer._may_stand_alone`)."""
+LONELY_RETRIES = 32
+"""Candidates of a floor object rejected only for standing alone in the room
+(``isolated``, :attr:`AssemblyConfig.isolation`) that are tried again, alone allowed,
+when no candidate passed: better there than not in the room at all."""
 CROWD_RETRIES = 32
 """Candidates of a mounted object rejected only for hanging close to another on its wall
 (``crowded``, :attr:`AssemblyConfig.wall_spacing`) that are tried again, close allowed,
@@ -452,6 +460,15 @@ class AssemblyConfig:
     (seeded by its id), within its bin; its candidates are drawn square (``snap_yaw_deg``)
     and then turned by it. False: every floor object stands square to the walls (0.21 of
     the val bedrooms' floor objects do not)."""
+    isolation: bool = True
+    """Let a floor object stand alone in the room (further than 0.5 m from every wall and
+    every floor object placed before it, :func:`~pair2scene.scene.relations.stands_alone`)
+    only as often as its category's objects did in the training rooms
+    (:meth:`~pair2scene.curation.stats.HierarchyStats.isolated_shares`: no bed, dresser or
+    house plant, 0.02 of the side tables, 0.3 of the coffee tables, 0.6 of the dog beds).
+    Each object draws once (seeded by its id) whether it may; if not, its candidates that
+    stand alone are rejected (``isolated``) and tried again only when none passed. False:
+    wherever the model draws it (a house plant or a side table mid-room)."""
     reject: bool = True
     """Ablation (``--ablation no-rejection``): False takes each object's first candidate
     (after the rest step when ``gravity``; left where drawn when nothing carries it) and
@@ -662,6 +679,7 @@ class Placer:
         heights: MountHeights | None = None,
         overlaps: FloorOverlaps | None = None,
         askew: dict[str, np.ndarray] | None = None,
+        isolated: dict[str, float] | None = None,
     ):
         self.model = model
         self.sizes = SizeTable.load() if sizes is None else sizes
@@ -694,6 +712,9 @@ class Placer:
         self.askew = askew or {}
         """Floor category -> shares of its free-standing objects in each bin of turns off
         the walls' axes (:attr:`AssemblyConfig.askew`)."""
+        self.isolated = isolated or {}
+        """Floor category -> share of its floor objects that stood alone in the room
+        (:attr:`AssemblyConfig.isolation`)."""
 
     def assets_for(
         self, hierarchy: Hierarchy, seed: int, given: dict[str, Asset] | None = None
@@ -959,6 +980,8 @@ class Placer:
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
             tilt = self._tilt(node.category, asset_seed(node.id, seed)) if on_floor_ else 0.0
+            if on_floor_ and not self._may_stand_alone(node.category, asset_seed(node.id, seed)):
+                context.company = [floor_outline(placed[i].box) for i in floor_ids]
             context.push_attempts = cfg.push_attempts
             if dense and cfg.dense_push_attempts is not None:
                 context.push_attempts = cfg.dense_push_attempts
@@ -1021,6 +1044,7 @@ class Placer:
             unseated: list[OrientedBox] = []  # drawn candidates turned from or off their anchor
             crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
             crowded: list[tuple] = []  # (candidate, wall, across) rejected only as crowded
+            lonely: list[tuple] = []  # (candidate, wall, corner) rejected only as isolated
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
@@ -1088,6 +1112,8 @@ class Placer:
                             crossed.append(box)
                         if reason == "crowded" and len(crowded) < CROWD_RETRIES:
                             crowded.append((box, context.mount, context.across))
+                        if reason == "isolated" and len(lonely) < LONELY_RETRIES:
+                            lonely.append((box, context.wall, context.corner))
                         missed += reason in NO_ROOM
                         if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
@@ -1121,6 +1147,11 @@ class Placer:
                 t0 = time.perf_counter()
                 context.apart = None
                 accepted = self._retried(crowded, context, tried, stats, _as_hung)
+                timer["collision"] += time.perf_counter() - t0
+            if accepted is None and lonely:  # none near a wall or another: alone will do
+                t0 = time.perf_counter()
+                context.company = None
+                accepted = self._retried(lonely, context, tried, stats, _as_drawn)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and halves:  # none by the drawn half: the other will do
                 t0 = time.perf_counter()
@@ -1468,6 +1499,15 @@ class Placer:
         low, high = ASKEW_BINS_DEG[b - 1], ASKEW_BINS_DEG[b]
         return float(np.radians(rng.uniform(low, high)) * rng.choice((-1.0, 1.0)))
 
+    def _may_stand_alone(self, category: str, seed: int) -> bool:
+        """Whether a floor object of ``category`` (``seed``: its asset seed) may stand
+        alone in the room, drawn with its category's share (:attr:`isolated`); True for a
+        category without one, or with the rule off."""
+        share = self.isolated.get(category)
+        if share is None or not self.config.isolation:
+            return True
+        return bool(np.random.default_rng([seed, ALONE_SALT]).random() < share)
+
     def _repair(self, ctx: _Context) -> float:
         return self.config.floor_repair_m if ctx.support == FLOOR else self.config.repair_m
 
@@ -1476,7 +1516,9 @@ class Placer:
         through a wall, "faces_away" / "not_in_front" / "wrong_half" / "far_from_anchor":
         not at its functional anchor as the training rooms' pairs were, "turned" /
         "off_spot": not how or where the training rooms' objects stood on their support,
-        "off_wall": no longer against the wall it was drawn against, "side_to_wall": a
+        "isolated": alone in the room when its category's objects rarely stood so
+        (:attr:`_Context.company`), "off_wall": no longer against the wall it was drawn
+        against, "side_to_wall": a
         side, not its back, against it when the wall rules did not turn it sideways
         (:meth:`_sideways`; the data's share of sideways objects is drawn there, not left
         to the model's yaw), "along_wall": a shower panel's long face at a wall
@@ -1494,6 +1536,12 @@ class Placer:
             reason = ctx.anchor.reason(box, ctx.wall)
             if reason is not None:
                 return reason, []
+        if (
+            ctx.company is not None
+            and ctx.wall is None
+            and stands_alone(floor_outline(box), ctx.room.floor_polygon, ctx.company)
+        ):
+            return "isolated", []  # alone mid-room, as its category's objects rarely stood
         if ctx.wall is not None and not face_contacts(box, [ctx.wall], faces=("back",)):
             # (its back against the wall, the usual case, is all :func:`wall_contact`
             # would have preferred: only without it are the other faces asked)
@@ -1672,6 +1720,11 @@ class _Context:
     push_attempts: int = 5
     """Push-outs a candidate may take (:attr:`AssemblyConfig.push_attempts`, or
     ``dense_push_attempts`` in a ``beyond`` scene)."""
+    company: list | None = None
+    """For a floor object that may not stand alone (:attr:`AssemblyConfig.isolation`):
+    the footprints of the floor objects placed before it; a candidate further than
+    :data:`~pair2scene.scene.relations.ALONE_M` from all of them and from every wall is
+    ``isolated`` (None: no rule)."""
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,10 @@ rooms, so the figures compare directly.
   degrees; :func:`~pair2scene.curation.stats.askew_bin`), out of the floor objects: real
   rooms leave chairs as pulled out and turn armchairs, lamps and plants to the room (0.22
   of the val living rooms' floor objects, 62 of 280).
+- ``floor_isolated``: floor objects standing alone in the room, further than 0.5 m from
+  every wall and every other floor object
+  (:func:`~pair2scene.scene.relations.stands_alone`), out of the floor objects: in real
+  rooms a basketball or a dog bed, never a side table or a house plant.
 
 Only floor objects take part (:func:`on_floor`) — except televisions, which may hang on
 a wall or stand on their stand — and never structure or parts of furniture.
@@ -60,6 +64,7 @@ from pair2scene.scene.relations import (
     facing_angle,
     footprint,
     footprint_gap,
+    stands_alone,
 )
 from pair2scene.scene.walls import against_wall, in_corner, walls_of
 
@@ -120,6 +125,7 @@ MEASURES = (
     "nightstands_at_bed_head",
     "floor_overlaps",
     "floor_askew",
+    "floor_isolated",
 )
 """The pooled measures, in the order they are reported."""
 _SKIPPED = (SuperCategory.STRUCTURE, SuperCategory.PART)
@@ -247,6 +253,17 @@ def floor_askew(scene: Scene) -> list[int]:
     return [sum(askew_bin(o.box.yaw) > 0 for o in floor), len(floor)]
 
 
+def floor_isolated(scene: Scene) -> list[int]:
+    """[floor objects standing alone in the room, floor objects]."""
+    floor = _floor_objects(scene)
+    prints = [footprint(o.box) for o in floor]
+    polygon = scene.room.floor_polygon
+    alone = sum(
+        stands_alone(p, polygon, prints[:i] + prints[i + 1 :]) for i, p in enumerate(prints)
+    )
+    return [int(alone), len(floor)]
+
+
 def layout_measures(scene: Scene) -> dict[str, list[int]]:
     """Every measure of one room as [numerator, denominator]: the pooled ones of
     :data:`MEASURES` and ``against_wall/<category>`` for each floor category."""
@@ -269,6 +286,7 @@ def layout_measures(scene: Scene) -> dict[str, list[int]]:
         "nightstands_at_bed_head": nightstands_at_bed_head(scene),
         "floor_overlaps": floor_overlaps(scene),
         "floor_askew": floor_askew(scene),
+        "floor_isolated": floor_isolated(scene),
     }
     out.update({f"against_wall/{cat}": [n, d] for cat, (n, d, _) in walls.items()})
     out.update({f"in_corner/{cat}": [c, d] for cat, (_, d, c) in walls.items()})

@@ -24,9 +24,15 @@ FACING_MAX_DEG = 45.0
 the target: half of a right angle, so a chair set square to the table's side or end
 passes and one turned sideways (90 degrees) or away does not."""
 
+ALONE_M = 0.5
+"""A floor object stands alone in the room when its footprint is further than this from
+every wall and from every other floor object's footprint: in the training rooms no bed,
+dresser, table, side table or house plant does, a basketball or a dog bed often does
+(:func:`stands_alone`)."""
+
 __all__ = [
-    "FACING_MAX_DEG", "facing_angle", "faces", "footprint", "footprint_gap", "nearest_point",
-    "angle_to_footprint",
+    "ALONE_M", "FACING_MAX_DEG", "facing_angle", "faces", "footprint", "footprint_gap",
+    "nearest_point", "angle_to_footprint", "stands_alone", "wall_gap",
 ]  # fmt: skip
 
 
@@ -70,6 +76,33 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
             near = _closest_on_segments(v, q, q1)
             best = min(best, float(np.linalg.norm(near - v, axis=1).min()))
     return best
+
+
+def wall_gap(poly: np.ndarray, floor_polygon: np.ndarray) -> float:
+    """Distance from the convex polygon ``poly`` (a footprint) to the outline of the room
+    ``floor_polygon`` (its walls, L-shaped rooms included); 0 where they touch or cross."""
+    best = np.inf
+    for p, q in ((poly, floor_polygon), (floor_polygon, poly)):  # a vertex of one of them
+        q1 = following(q)
+        for v in p:
+            near = _closest_on_segments(v, q, q1)
+            best = min(best, float(np.linalg.norm(near - v, axis=1).min()))
+    return best
+
+
+def stands_alone(
+    poly: np.ndarray, floor_polygon: np.ndarray, others: list[np.ndarray], gap: float = ALONE_M
+) -> bool:
+    """Whether the footprint ``poly`` is further than ``gap`` from every wall of the room
+    ``floor_polygon`` and from every footprint of ``others`` (the other floor objects)."""
+    if wall_gap(poly, floor_polygon) <= gap:
+        return False
+    lo, hi = poly.min(axis=0) - gap, poly.max(axis=0) + gap
+    for q in others:  # (a bounding-box test first: most are far)
+        if np.all(q.max(axis=0) >= lo) and np.all(q.min(axis=0) <= hi):
+            if footprint_gap(poly, q) <= gap:
+                return False
+    return True
 
 
 def facing_angle(box: OrientedBox, target_xy: np.ndarray) -> float:
