@@ -256,11 +256,10 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
         "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
-        "(3D-Pairs v3, 17,899 tuples; the bundled model was trained, 40 epochs, on the 17,887 "
-        "it held before towels on their holders were kept, 12 bathroom tuples); "
-        "VARIANTS holds `pair2scene train --variant V` checkpoints (`--train-missing` trains "
-        "them; this run's were trained on the same PAIRS by `--train-missing`, the cpu preset: "
-        "`class-only` and `global` 40 epochs, `no-pretrain` 2 epochs, 22 minutes).",
+        "(3D-Pairs v3, 18,507 tuples; the bundled model was trained on them, 40 epochs); "
+        "VARIANTS holds `pair2scene train --variant V` checkpoints, trained on the same PAIRS "
+        "(`pair2scene train --data PAIRS --out VARIANTS/V --variant V`, as `--train-missing` "
+        "does; the cpu preset: `class-only` and `global` 40 epochs, `no-pretrain` 2).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "
