@@ -47,11 +47,11 @@ from pair2scene.errors import UserError
 from pair2scene.scene.geometry import convex_overlap_area, polygon_area
 from pair2scene.scene.model import FLOOR, WALL, Room, Scene, SceneObject, on_wall, wall_index
 from pair2scene.scene.relations import (
+    alone_in_room,
     by_back_half,
     faces,
     footprint,
     footprint_gap,
-    stands_alone,
 )
 from pair2scene.scene.walls import (
     AGAINST_GAP_M,
@@ -245,6 +245,18 @@ def askew_bin(yaw: float) -> int:
     degrees (0: square to them)."""
     turn = abs(float(np.degrees(yaw) + 45.0) % 90.0 - 45.0)
     return min(int(np.searchsorted(ASKEW_BINS_DEG, turn)), len(ASKEW_BINS_DEG) - 1)
+
+
+def _summed_rows(
+    acc: dict[str, list[int]] | None, rows: dict[str, list[int]] | None, width: int
+) -> dict[str, list[int]] | None:
+    """``acc`` with ``rows`` (category -> ``width`` counts) added to it, category by
+    category; None when either is None (statistics written before the rows were kept)."""
+    if acc is None or rows is None:
+        return None
+    for cat, counts in rows.items():
+        acc[cat] = [a + b for a, b in zip(acc.setdefault(cat, [0] * width), counts)]
+    return acc
 
 
 def wall_gaps(walls: list[Wall], placed: list[SceneObject]) -> tuple[int, int]:
@@ -676,13 +688,13 @@ class HierarchyStats:
             if o.category in SEATS and o.support == FLOOR and o.functional_anchor
         )  # fmt: skip
         floor = [o for o in placed if o.support == FLOOR]
-        prints = [footprint(o.box) for o in floor]
-        for i, o in enumerate(floor):
-            if self.isolated is not None:
-                others = prints[:i] + prints[i + 1 :]
+        if self.isolated is not None:
+            alone = alone_in_room([footprint(o.box) for o in floor], scene.room.floor_polygon)
+            for o, lone in zip(floor, alone):
                 acc = self.isolated.setdefault(o.category, [0, 0])
-                acc[0] += int(stands_alone(prints[i], scene.room.floor_polygon, others))
+                acc[0] += int(lone)
                 acc[1] += 1
+        for o in floor:
             wall = wall_anchor(scene, o, walls)
             gap = FIXTURE_WALL_GAP_M if o.super is SuperCategory.FIXTURE else AGAINST_GAP_M
             backed = against_wall(o.box, walls, gap)  # (its box may reach into the wall)
@@ -783,18 +795,8 @@ class HierarchyStats:
                 out.floor_overlaps = None
             else:
                 out.floor_overlaps.update(p.floor_overlaps)
-            if p.askew is None or out.askew is None:
-                out.askew = None
-            else:
-                for cat, bins in p.askew.items():
-                    acc = out.askew.setdefault(cat, [0] * len(ASKEW_BINS_DEG))
-                    out.askew[cat] = [a + b for a, b in zip(acc, bins)]
-            if p.isolated is None or out.isolated is None:
-                out.isolated = None
-            else:
-                for cat, pair in p.isolated.items():
-                    acc = out.isolated.setdefault(cat, [0, 0])
-                    out.isolated[cat] = [a + b for a, b in zip(acc, pair)]
+            out.askew = _summed_rows(out.askew, p.askew, len(ASKEW_BINS_DEG))
+            out.isolated = _summed_rows(out.isolated, p.isolated, 2)
         return out
 
     def top_kept_free(self, min_dependents: int = 20, max_share: float = 0.02) -> frozenset:

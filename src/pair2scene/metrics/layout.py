@@ -60,11 +60,11 @@ from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
     FACING_MAX_DEG,
+    alone_in_room,
     angle_to_footprint,
     facing_angle,
     footprint,
     footprint_gap,
-    stands_alone,
 )
 from pair2scene.scene.walls import against_wall, in_corner, walls_of
 
@@ -256,12 +256,8 @@ def floor_askew(scene: Scene) -> list[int]:
 def floor_isolated(scene: Scene) -> list[int]:
     """[floor objects standing alone in the room, floor objects]."""
     floor = _floor_objects(scene)
-    prints = [footprint(o.box) for o in floor]
-    polygon = scene.room.floor_polygon
-    alone = sum(
-        stands_alone(p, polygon, prints[:i] + prints[i + 1 :]) for i, p in enumerate(prints)
-    )
-    return [int(alone), len(floor)]
+    alone = alone_in_room([footprint(o.box) for o in floor], scene.room.floor_polygon)
+    return [sum(alone), len(floor)]
 
 
 def layout_measures(scene: Scene) -> dict[str, list[int]]:

@@ -32,7 +32,7 @@ dresser, table, side table or house plant does, a basketball or a dog bed often 
 
 __all__ = [
     "ALONE_M", "FACING_MAX_DEG", "facing_angle", "faces", "footprint", "footprint_gap",
-    "nearest_point", "angle_to_footprint", "stands_alone", "wall_gap",
+    "nearest_point", "angle_to_footprint", "stands_alone", "wall_gap", "alone_in_room",
 ]  # fmt: skip
 
 
@@ -69,8 +69,13 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
             break
     else:
         return 0.0
+    return _vertex_gap(a, b)  # apart: the closest pair has a vertex of one of them
+
+
+def _vertex_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """Least distance from a vertex of either closed outline to an edge of the other."""
     best = np.inf
-    for p, q in ((a, b), (b, a)):  # apart: the closest pair has a vertex of one of them
+    for p, q in ((a, b), (b, a)):
         q1 = following(q)
         for v in p:
             near = _closest_on_segments(v, q, q1)
@@ -81,13 +86,7 @@ def footprint_gap(a: np.ndarray, b: np.ndarray) -> float:
 def wall_gap(poly: np.ndarray, floor_polygon: np.ndarray) -> float:
     """Distance from the convex polygon ``poly`` (a footprint) to the outline of the room
     ``floor_polygon`` (its walls, L-shaped rooms included); 0 where they touch or cross."""
-    best = np.inf
-    for p, q in ((poly, floor_polygon), (floor_polygon, poly)):  # a vertex of one of them
-        q1 = following(q)
-        for v in p:
-            near = _closest_on_segments(v, q, q1)
-            best = min(best, float(np.linalg.norm(near - v, axis=1).min()))
-    return best
+    return _vertex_gap(poly, floor_polygon)
 
 
 def stands_alone(
@@ -103,6 +102,14 @@ def stands_alone(
             if footprint_gap(poly, q) <= gap:
                 return False
     return True
+
+
+def alone_in_room(prints: list[np.ndarray], floor_polygon: np.ndarray) -> list[bool]:
+    """For each of a room's floor footprints, whether it stands alone among the others
+    (:func:`stands_alone`)."""
+    return [
+        stands_alone(p, floor_polygon, prints[:i] + prints[i + 1 :]) for i, p in enumerate(prints)
+    ]
 
 
 def facing_angle(box: OrientedBox, target_xy: np.ndarray) -> float:
