@@ -31,16 +31,19 @@ DOC = ROOT / "docs" / "model.md"
 SECTION = "## Validation NLL"
 
 
+KINDS = ("floor", "support", "functional")
+
+
 def row(name: str, result, training: dict | None) -> dict:
     kinds = {k: g.nll for k, g in result.per_kind.items()}
+    given = {k: g.nll for k, g in result.given_size_per_kind.items()}
     return {
         "model": name,
         "nll": result.nll,
         "median": result.median_nll,
         "given_size": result.nll_given_size,
-        "floor": kinds.get("floor"),
-        "support": kinds.get("support"),
-        "functional": kinds.get("functional"),
+        **{k: kinds.get(k) for k in KINDS},
+        **{f"{k}_given_size": given.get(k) for k in KINDS},
         "n": result.n,
         "epochs": None if training is None else len(training.get("history", [])),
         "minutes": None if training is None else training.get("train_seconds", 0) / 60,
@@ -84,14 +87,16 @@ def main() -> int:
         f"`python benchmarks/model_variants.py` on {machine()}, {dt.date.today().isoformat()};"
         f" {rows[0]['n'] if rows else 0} val tuples. Nats per tuple, lower is better.",
         "",
-        "| model | NLL | median | NLL given size | floor | support | functional | epochs "
-        "| train min |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| model | NLL | median | floor | support | functional | NLL given size "
+        "| given size: floor | support | functional | epochs | train min |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
+        kinds = " | ".join(f(r[k]) for k in KINDS)
+        given = " | ".join(f(r[f"{k}_given_size"]) for k in KINDS)
         lines.append(
-            f"| {r['model']} | **{f(r['nll'])}** | {f(r['median'])} | {f(r['given_size'])} | "
-            f"{f(r['floor'])} | {f(r['support'])} | {f(r['functional'])} | "
+            f"| {r['model']} | **{f(r['nll'])}** | {f(r['median'])} | {kinds} | "
+            f"**{f(r['given_size'])}** | {given} | "
             f"{r['epochs'] if r['epochs'] is not None else '-'} | {f(r['minutes'], 1)} |"
         )
     replace_section(DOC, SECTION, "\n".join(lines))

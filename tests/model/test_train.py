@@ -126,6 +126,16 @@ def test_score_of_the_checkpoint_is_the_training_val_nll(trained, pairs_dir):
     lp, lps = model.log_prob(val), model.log_prob_size(val)
     assert result.nll_given_size == pytest.approx(float(np.mean(lps - lp)), rel=1e-9)
     assert np.isfinite(lps).all()
+    # and by relation kind: each kind's tuples alone, weighted back to the whole
+    kinds = np.array([val.kinds[k] for k in val.kind.tolist()])
+    per_kind = result.given_size_per_kind
+    assert set(per_kind) == set(kinds.tolist()) and len(per_kind) > 1
+    for kind, group in per_kind.items():
+        assert group.n == int((kinds == kind).sum())
+        assert group.nll == pytest.approx(float(np.mean((lps - lp)[kinds == kind])), rel=1e-9)
+    total = sum(g.nll * g.n for g in per_kind.values()) / result.n
+    assert total == pytest.approx(result.nll_given_size, rel=1e-9)
+    assert result.to_dict()["given_size_per_kind"].keys() == per_kind.keys()
 
 
 def test_same_seed_same_weights(trained, pairs_dir, tiny_encoder, tmp_path):

@@ -173,6 +173,9 @@ class ScoreResult:
     question. None when the model cannot give the size's marginal."""
     per_source: dict[str, GroupScore] = field(default_factory=dict)
     """By source label as the dataset stores it."""
+    given_size_per_kind: dict[str, GroupScore] = field(default_factory=dict)
+    """:attr:`nll_given_size` by relation kind (floor, support, functional); empty when
+    the model cannot give the size's marginal."""
 
     def to_dict(self) -> dict:
         """Plain JSON types; a non-finite NLL becomes null (JSON has no inf)."""
@@ -192,6 +195,7 @@ class ScoreResult:
             "nonfinite": self.nonfinite,
             "per_kind": groups(self.per_kind),
             "per_source": groups(self.per_source),
+            "given_size_per_kind": groups(self.given_size_per_kind),
         }
 
 
@@ -227,17 +231,18 @@ def score(model: Scorer, data: PairsDataset | str | Path, split: str | None = "v
     nll = -lp
     finite = np.isfinite(nll)
 
-    def by(labels: np.ndarray) -> dict[str, GroupScore]:
+    def by(labels: np.ndarray, values: np.ndarray = nll) -> dict[str, GroupScore]:
         return {
-            str(v): GroupScore(_mean_nll(nll[labels == v]), int((labels == v).sum()))
+            str(v): GroupScore(_mean_nll(values[labels == v]), int((labels == v).sum()))
             for v in sorted(set(labels.tolist()))
         }
 
     kinds = np.array([subset.kinds[k] for k in subset.kind.tolist()], dtype=object)
-    given_size = None
+    given_size, given_size_per_kind = None, {}
     if isinstance(model, SizeScorer):
         lps = np.asarray(model.log_prob_size(subset), dtype=np.float64)
         given_size = _mean_nll(-(lp - lps))
+        given_size_per_kind = by(kinds, -(lp - lps))
     return ScoreResult(
         nll=_mean_nll(nll),
         n=len(subset),
@@ -247,6 +252,7 @@ def score(model: Scorer, data: PairsDataset | str | Path, split: str | None = "v
         per_kind=by(kinds),
         per_source=by(subset.source),
         nll_given_size=given_size,
+        given_size_per_kind=given_size_per_kind,
     )
 
 
