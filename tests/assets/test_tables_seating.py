@@ -218,6 +218,46 @@ def test_bed_mattress_and_headboard(assets, case):
         assert hi[2] < _top_z(foot) < sz / 2 - 0.1 * sz
 
 
+BUNK_SIZES = [(1.15, 1.86, 1.58), (1.16, 2.43, 1.96), (1.15, 2.52, 2.32)]
+"""The bunk and loft bed boxes of the training rooms' size table."""
+
+
+@pytest.mark.parametrize("style", range(3))
+@pytest.mark.parametrize("size", BUNK_SIZES, ids=lambda s: f"h{s[2]}")
+def test_tall_beds_are_bunk_beds(size, style):
+    from pair2scene.assets import surfaces_of
+    from pair2scene.assets.generators.beds import BUNK_HEADROOM_M, BUNK_MIN_HEIGHT_M
+
+    assert size[2] >= BUNK_MIN_HEIGHT_M > max(s[2] for s in SIZES["bed"])
+    asset = generate("bed", size, rng=style, style=style)
+    sx, sy, sz = size
+    np.testing.assert_allclose(asset.mesh.bounds, [[-sx / 2, -sy / 2, -sz / 2], [sx / 2, sy / 2, sz / 2]], atol=1e-6)  # fmt: skip
+    assert len({p.name for p in asset.parts}) == len(asset.parts) < MAX_PARTS
+    for part in asset.parts:
+        assert part.mesh.is_convex() and part.mesh.is_watertight(), part.name
+    upper, lower = _part(asset, "mattress"), _part(asset, "mattress_lower")
+    # two decks: the lower near the floor, the upper high, headroom between them
+    assert _top_z(lower) + sz / 2 < 0.6
+    assert _top_z(upper) > _top_z(lower) + BUNK_HEADROOM_M
+    # the places things rest: the two mattresses, and nothing but post tops besides
+    big = sorted((s for s in surfaces_of(asset) if s.area > 0.01), key=lambda s: s.z)
+    assert [s.z for s in big] == pytest.approx([_top_z(lower), _top_z(upper)], abs=1e-3)
+    assert big[0].area > 0.7 * sx * sy and big[1].area > 0.7 * sx * sy
+    assert big[0].clearance >= BUNK_HEADROOM_M and np.isinf(big[1].clearance)
+    # a rail guards the upper deck on both long sides; the ladder stands at the foot,
+    # on the half the style gives it
+    rails = _parts(asset, r"rail_(left|right)_\d")
+    assert {round(float(np.sign(_centre(p)[0]))) for p in rails} == {-1, 1}
+    assert all(_top_z(p) > _top_z(upper) for p in rails)
+    stiles = _parts(asset, r"ladder_stile_\d")
+    assert len(stiles) == 2 and all(_centre(p)[1] > 0.45 * sy for p in stiles)
+    side = np.sign(np.mean([_centre(p)[0] for p in stiles]))
+    assert side == (-1 if style == 1 else 1)
+    assert _parts(asset, r"ladder_rung_\d")
+    # its head at -y, as every bed's
+    assert all(_centre(p)[1] < -0.45 * sy for p in _parts(asset, "headboard"))
+
+
 @pytest.mark.parametrize("case", _cases(["dog_bed"]), ids=lambda c: f"{c}")
 def test_dog_bed_cushion_in_rim(assets, case):
     _, _, i = case

@@ -25,6 +25,14 @@ from pair2scene.assets.generators.shapes import (
 from pair2scene.assets.mesh import Part, hull
 from pair2scene.assets.registry import register
 
+BUNK_MIN_HEIGHT_M = 1.5
+"""A bed box at least this tall is a bunk bed: two decks between four posts, a ladder at
+the foot. The tallest single beds of the training rooms stand 1.36 m (their headboards);
+AI2-THOR's and ProcTHOR's bunk and loft beds 1.58-2.32 m, which a single mattress at
+half the height drew as a bed stood on end."""
+BUNK_HEADROOM_M = 0.55
+"""At least this much free height between the lower mattress and the upper deck."""
+
 
 @register("bed", variants=3)
 @min_design_extent(0.4)
@@ -37,8 +45,11 @@ def bed(
     """Bed: a mattress (the upward surface, near half the box height) on a frame, with a
     headboard at -y spanning the full height. Upholstered base on a recessed plinth with a
     padded headboard (0), wooden frame with corner posts and a footboard (1), or a low
-    platform wider than the mattress with a slatted headboard (2)."""
+    platform wider than the mattress with a slatted headboard (2). A box at least
+    :data:`BUNK_MIN_HEIGHT_M` tall is a bunk bed (:func:`_bunk_bed`)."""
     sx, sy, sz = (float(v) for v in size)
+    if sz >= BUNK_MIN_HEIGHT_M:
+        return _bunk_bed(sx, sy, sz, rng, style)
     hx, hy = sx / 2, sy / 2
     mat_top = clip(0.5 * jitter(rng, 0.05), 0.35, 0.7) * sz
     mat_t = min(clip(0.22 * sz, 0.08, 0.3) * jitter(rng), 0.6 * mat_top)
@@ -149,6 +160,88 @@ def bed(
                     (x + slat_w / 2, -hy + 0.8 * hb_t, slat_top),
                 )
             )
+    return floor_to_centre(parts, sz)
+
+
+def _bunk_bed(sx: float, sy: float, sz: float, rng: np.random.Generator, style: int):
+    """Two decks between four full-height posts: a lower mattress near the floor, an upper
+    one whose top is the bed's main surface, guard rails around the upper deck and a
+    ladder at the foot (+y), on the +x half (style 0 and 2) or the -x half (style 1).
+    Head panels close both decks at -y, so the bed reads from above and in a view as
+    what it is, and the upper deck's rail leaves the ladder's opening free."""
+    hx, hy = sx / 2, sy / 2
+    post = clip(0.05 * sx, 0.05, 0.08) * jitter(rng)
+    mat_t = clip(0.12 * sz, 0.12, 0.18) * jitter(rng, 0.05)
+    deck_t = 0.04
+    rail_top = sz - 0.04  # the posts end at the box's top, rails and panels a little under
+    guard = clip(0.18 * sz, 0.25, 0.4)  # rail height above the upper mattress
+    up_top = rail_top - guard
+    lo_bottom = clip(0.12 * sz, 0.18, 0.3)
+    lo_top = lo_bottom + deck_t + mat_t
+    # the upper deck sits at least the headroom over the lower mattress
+    up_top = max(up_top, lo_top + BUNK_HEADROOM_M + deck_t + mat_t)
+    up_frame = up_top - mat_t
+    px, py = hx - post / 2, hy - post / 2
+    inner = (-hx + post, hx - post)
+    parts = [
+        slab(f"post_{i}", (x - post / 2, y - post / 2, 0.0), (x + post / 2, y + post / 2, sz))
+        for i, (x, y) in enumerate(((-px, -py), (px, -py), (px, py), (-px, py)))
+    ]
+    mi = clip(0.015 * sx, 0.005, 0.03)
+    for deck, (bottom, top) in (
+        ("lower", (lo_bottom, lo_top)),
+        ("upper", (up_frame - deck_t, up_top)),
+    ):
+        frame_top = bottom + deck_t
+        # under the mattress only: no ledge beside it for things to rest on
+        parts.append(
+            slab(
+                f"frame_{deck}",
+                (inner[0] + mi, -hy + post, bottom),
+                (inner[1] - mi, hy - post, frame_top),
+            )
+        )
+        parts.append(
+            rounded_slab(
+                "mattress" if deck == "upper" else "mattress_lower",
+                inner[0] + mi, inner[1] - mi, -hy + post, hy - post, frame_top, top, 2 * mi,
+            )
+        )  # fmt: skip
+    panel = 0.5 * post
+    parts += [
+        slab("headboard", (inner[0], -hy, lo_bottom), (inner[1], -hy + panel, lo_top + 0.3)),
+        slab(
+            "headboard_upper", (inner[0], -hy, up_frame - deck_t), (inner[1], -hy + panel, rail_top)
+        ),
+        slab("footboard", (inner[0], hy - panel, lo_bottom), (inner[1], hy, lo_top + 0.15)),
+    ]
+    rail = clip(0.06 * guard, 0.025, 0.05)
+    rail_z = (up_top + 0.5 * guard, rail_top - rail)
+    for side, x in (("left", -hx), ("right", hx - panel)):
+        for k, z in enumerate(rail_z):
+            parts.append(
+                slab(f"rail_{side}_{k}", (x, -hy + post, z), (x + panel, hy - post, z + rail))
+            )
+    # the ladder: two stiles at the foot, rungs between, on one half; the upper deck's
+    # foot rail covers the other half
+    side = -1.0 if style == 1 else 1.0
+    width = clip(0.4 * (sx - 2 * post), 0.3, 0.45)
+    near = side * (hx - post)
+    far = near - side * width
+    a, b = sorted((near, far))
+    stile = 0.04
+    parts += [
+        slab("ladder_stile_0", (a, hy - panel, 0.0), (a + stile, hy, rail_top)),
+        slab("ladder_stile_1", (b - stile, hy - panel, 0.0), (b, hy, rail_top)),
+    ]
+    rungs = np.arange(lo_top + 0.3, up_top, 0.3)
+    for k, z in enumerate(rungs):
+        parts.append(
+            slab(f"ladder_rung_{k}", (a + stile, hy - panel, z), (b - stile, hy, z + 0.03))
+        )
+    lo_x, hi_x = (inner[0], a) if side > 0 else (b, inner[1])
+    for k, z in enumerate(rail_z):
+        parts.append(slab(f"rail_foot_{k}", (lo_x, hy - panel, z), (hi_x, hy, z + rail)))
     return floor_to_centre(parts, sz)
 
 
