@@ -479,11 +479,26 @@ _CACHE: weakref.WeakKeyDictionary[Asset, list[SupportSurface]] = weakref.WeakKey
 
 
 def surfaces_of(asset: Asset) -> list[SupportSurface]:
-    """:func:`support_surfaces` with default settings, computed once per asset object."""
+    """:func:`support_surfaces` with default settings, computed once per asset object,
+    and once per asset geometry on a machine: an asset built of parts has its surfaces
+    kept in the surface store under the cache folder
+    (:mod:`~pair2scene.assets.surface_store`), read back to the bit."""
     found = _CACHE.get(asset)
     if found is None:
-        found = support_surfaces(asset)
+        found = _stored_surfaces(asset) if asset.parts else support_surfaces(asset)
         _CACHE[asset] = found
+    return found
+
+
+def _stored_surfaces(asset: Asset) -> list[SupportSurface]:
+    from pair2scene.assets.pointcloud import mesh_digest
+    from pair2scene.assets.surface_store import default_store
+
+    store, key = default_store(), mesh_digest(asset)
+    found = store.get(key)
+    if found is None:
+        found = support_surfaces(asset)
+        store.put(key, found)
     return found
 
 
