@@ -11,9 +11,9 @@ Run from the repository root, on an idle machine::
 - a warm fit bedroom with its folder written (scene.json, GLB, top view), median over
   ``--scenes`` seeds, in one process with the model loaded: first with an empty token
   store (a cache folder of the run's own: no asset of the library encoded before), then
-  after the library was encoded into it, as ``pair2scene assets tokens`` does once (its
-  time is reported too; the library's assets come back, and their tokens are read, not
-  encoded);
+  after the library was encoded into it and its surfaces worked out into the surface
+  store, as ``pair2scene assets tokens`` does once (its time is reported too; the
+  library's assets come back, and their tokens and surfaces are read, not computed);
 - ``beyond`` bedrooms of 20, 40, 80, 160 and 320 objects (:data:`BEYOND_SEEDS` fresh
   seeds each, median) and the cost slope, log(seconds) against log(objects) from 40 to
   320;
@@ -143,7 +143,7 @@ def warm(tmp: Path, scenes: int):
     p2s.generate(room="bedroom", seed=10_000)  # imports, first clouds
     empty = statistics.median(bedrooms(p2s, tmp, range(30_000, 30_000 + scenes))[0])
     t0 = time.perf_counter()
-    p2s.model.store_tokens(library_assets(p2s.placer.sizes))
+    p2s.model.store_tokens(library_assets(p2s.placer.sizes, surfaces=True))
     library = time.perf_counter() - t0
     fit, split, assets = bedrooms(p2s, tmp, range(scenes))
     beyond = {}
@@ -255,10 +255,12 @@ def main() -> int:
         f"| a process that only imports torch, start to exit (median of {a.runs}; what "
         f"a generating process no longer pays) | {torch_alone:.2f} s |  |",
         f"| a fit bedroom, folder written, warm (median of {a.scenes}), the asset library "
-        f"in the token store (`pair2scene assets tokens`, once) | {fit:.2f} s | <= 0.25 s |",
-        f"| the same, the token store empty (no asset of the library encoded before) | "
+        f"in the token and surface stores (`pair2scene assets tokens`, once) | {fit:.2f} s | "
+        "<= 0.25 s |",
+        f"| the same, the stores empty (no asset of the library met before) | "
         f"{empty:.2f} s |  |",
-        f"| encoding the asset library into the token store, once (in the process above) "
+        f"| encoding the asset library into the token store and its surfaces into the "
+        f"surface store, once (in the process above) "
         f"| {library:.1f} s |  |",
         *(f"| a beyond bedroom of {n} objects ({beyond[n][1]:.0f} placed; median of "
           f"{BEYOND_SEEDS} fresh seeds) | "

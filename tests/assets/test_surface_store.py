@@ -116,3 +116,19 @@ def test_the_folder_follows_the_code(monkeypatch):
         assert surface_store.code_digest() != before
     finally:
         surface_store.code_digest.cache_clear()
+
+
+def test_the_library_pass_fills_the_store(tmp_path, monkeypatch):
+    """``library_assets(..., surfaces=True)`` (what ``pair2scene assets tokens`` walks)
+    leaves each asset's surfaces in the store; without it, nothing is worked out."""
+    from pair2scene.assembly.place import library_assets
+    from pair2scene.assembly.sizes import SizeTable
+
+    monkeypatch.setenv("PAIR2SCENE_CACHE", str(tmp_path))
+    sizes = SizeTable({"side_table": np.array([[0.5, 0.45, 0.6], [0.4, 0.4, 0.55]])})
+    stored = tmp_path / "surfaces"
+    assert len(list(library_assets(sizes))) == 2 and not stored.exists()
+    assets = list(library_assets(sizes, surfaces=True))
+    assert len(list(stored.rglob("*.npy"))) == 2
+    keys = {p.stem for p in stored.rglob("*.npy")}
+    assert keys == {mesh_digest(a) for a in assets}

@@ -614,13 +614,20 @@ def seated_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
     return OrientedBox(centre, box.size, yaw_to_matrix(yaw))
 
 
-def library_assets(sizes: SizeTable) -> Iterator[Asset]:
+def library_assets(sizes: SizeTable, surfaces: bool = False) -> Iterator[Asset]:
     """The asset library's assets (:attr:`AssemblyConfig.asset_library`), as
     :meth:`Placer.assets_for` builds them: each category's observed sizes, standing and
     mounted (from its wall sizes where the table has them, turned wider than deep), and a
     category of :data:`RESTING_STYLE` in its resting style too. What the placer builds
-    besides (a towel cut to its rail) is met, and encoded, as generation goes."""
+    besides (a towel cut to its rail) is met, and encoded, as generation goes.
+    ``surfaces``: work out each asset's support surfaces as it is built, which keeps them
+    in the surface store (:mod:`~pair2scene.assets.surface_store`)."""
     from pair2scene.assets.registry import generate
+
+    def built(asset: Asset) -> Asset:
+        if surfaces:
+            surfaces_of(asset)
+        return asset
 
     for key in sorted(sizes.sizes):
         category, mounted = split_member(key)
@@ -629,9 +636,9 @@ def library_assets(sizes: SizeTable) -> Iterator[Asset]:
             rows = wider_than_deep(rows)
         for size in rows:
             asset = generate(category, size, library_seed(category, size))
-            yield asset
+            yield built(asset)
             if RESTING_STYLE.get(category, asset.style) != asset.style:
-                yield Placer._resting_style(asset, size, library_seed)
+                yield built(Placer._resting_style(asset, size, library_seed))
 
 
 def door_boxes(room: Room, depth: float, height: float) -> list[OrientedBox]:

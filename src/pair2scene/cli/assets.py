@@ -117,10 +117,11 @@ def assets_tokens(
 ) -> None:
     """Encode the asset library into the token store, once: every size the bundled size
     table observed for a category, one mesh each, as generation builds them (1,551 sizes,
-    about 20 s). Generation keeps each asset's encoder tokens in
-    $PAIR2SCENE_CACHE/tokens as it meets the asset; after this, a machine's first rooms
-    encode nothing either. Run it again after changing the model: another checkpoint
-    keeps its own tokens. Scenes are the same bytes with or without it."""
+    about 40 s), and work out their support surfaces into the surface store. Generation
+    keeps each asset's encoder tokens in $PAIR2SCENE_CACHE/tokens and its surfaces in
+    $PAIR2SCENE_CACHE/surfaces as it meets the asset; after this, a machine's first rooms
+    compute neither. Run it again after changing the model: another checkpoint keeps its
+    own tokens. Scenes are the same bytes with or without it."""
     from pair2scene.assembly.place import library_assets
     from pair2scene.assembly.sizes import SizeTable
     from pair2scene.model.api import LayoutModel
@@ -128,7 +129,9 @@ def assets_tokens(
     layout = LayoutModel.from_pretrained(model)
     sizes = SizeTable.load()
     rows = sum(len(v) for v in sizes.sizes.values())
-    total, new = layout.store_tokens(library_assets(sizes), progress=True, total=rows)
+    total, new = layout.store_tokens(
+        library_assets(sizes, surfaces=True), progress=True, total=rows
+    )
     store = layout.token_store
     typer.echo(f"{store.folder}: {total} library assets, {new} encoded now, "
                f"{total - new} there already")  # fmt: skip
