@@ -59,6 +59,8 @@ def perturbed_model(config: LayoutConfig, seed: int = 0) -> LayoutPredictor:
             model.pair_centre.copy_(torch.randn(model.pair_centre.shape, generator=g))
         if config.uses_pair_turns:  # and its own split of yaw turns
             model.pair_turn.copy_(torch.randn(model.pair_turn.shape, generator=g))
+        if config.uses_pair_modes:  # and its own clusters
+            model.pair_mode.copy_(torch.randn(model.pair_mode.shape, generator=g))
     return model
 
 
@@ -125,6 +127,15 @@ VARIANTS = {
     "pair prior, class-only": tiny_config("class-only", pair_prior=True),
     "pair turns": tiny_config("full", pair_prior=True, pair_turns=True),
     "pair turns, no anchor frames": tiny_config("full", pair_turns=True, anchor_frames=False),
+    "pair modes": tiny_config("full", pair_prior=True, pair_modes=True),
+    "pair modes and turns, class-only": tiny_config(
+        "class-only", pair_prior=True, pair_modes=True, pair_turns=True
+    ),
+    "pair modes, one yaw mode": tiny_config(
+        pair_prior=True,
+        pair_modes=True,
+        mixture=MixtureConfig(num_components=3, yaw_modes=1, rotation_base=False),
+    ),
 }
 
 

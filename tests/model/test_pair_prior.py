@@ -32,8 +32,13 @@ from pair2scene.model.config import (  # noqa: E402
 from pair2scene.model.features import category_index  # noqa: E402
 from pair2scene.model.layout import LayoutBatch, LayoutPredictor  # noqa: E402
 from pair2scene.model.pair_prior import (  # noqa: E402
+    CENTRE_DIMS,
+    SHARE_PSEUDO_COUNT,
     frame_anchor,
+    kmeans,
+    mode_table_shape,
     pair_centre_table,
+    pair_mode_table,
     pair_turn_table,
     table_rows,
     table_shape,
@@ -201,3 +206,67 @@ def test_the_turn_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
     del doc["pair_turns"]  # written before the turn table
     assert layout_config_from_dict(doc).pair_turns is False
     assert not tiny(variant=LayoutVariant.GLOBAL, pair_turns=True).uses_pair_turns
+
+
+# -- the pair table's clusters -------------------------------------------------------------
+def test_kmeans_finds_two_places_largest_first_and_is_seeded():
+    rng = np.random.default_rng(0)
+    head = rng.normal([0.0, -0.6], 0.02, (30, 2))
+    foot = rng.normal([0.1, 0.5], 0.02, (10, 2))
+    points = np.concatenate([foot, head])
+    centres, counts = kmeans(points, 2, seed=(1, 2, 0))
+    np.testing.assert_allclose(centres, [head.mean(0), foot.mean(0)], atol=1e-9)
+    np.testing.assert_array_equal(counts, [30, 10])
+    again = kmeans(points, 2, seed=(1, 2, 0))
+    np.testing.assert_array_equal(again[0], centres)
+    # more clusters than distinct points: the spare ones sit on the largest, empty
+    centres, counts = kmeans(np.array([[0.0, 1.0], [0.0, 1.0], [2.0, 0.0]]), 4)
+    np.testing.assert_array_equal(counts, [2, 1, 0, 0])
+    np.testing.assert_array_equal(centres, [[0, 1], [2, 0], [0, 1], [0, 1]])
+
+
+def test_mode_table_offsets_from_the_median_and_centred_log_shares():
+    head = [(PILLOW, BED, -1, FRAME_SUPPORT, 0.0, -0.6)] * 8
+    foot = [(PILLOW, BED, -1, FRAME_SUPPORT, 0.0, 0.5)] * 2
+    rare = [(BOOK, BED, -1, FRAME_SUPPORT, 0.3, 0.3)] * (PAIR_PRIOR_MIN_TUPLES - 1)
+    cats, frames, centres = tuples(head + foot + rare)
+    table = pair_mode_table(cats, frames, centres, N, 3)
+    assert table.shape == mode_table_shape(N, 3) and table.dtype == np.float32
+    row = table[BED, PILLOW, FRAME_SUPPORT]  # median (0, -0.6): the head
+    np.testing.assert_allclose(row[:, :CENTRE_DIMS], [[0, 0], [0, 1.1], [0, 0]], atol=1e-6)
+    share = np.log(np.array([8, 2, 0]) + SHARE_PSEUDO_COUNT)
+    np.testing.assert_allclose(row[:, CENTRE_DIMS], share - share.mean(), atol=1e-6)
+    assert not table[BED, BOOK].any()  # one tuple short: the median alone
+    np.testing.assert_allclose(table_rows(table, cats[:1], frames[:1])[0], row)
+
+
+def test_the_predictor_gives_each_component_its_clusters_centre_and_share():
+    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True, pair_modes=True)
+    model = LayoutPredictor(config, None, torch.Generator().manual_seed(0)).eval()
+    assert not model.pair_mode.any()  # empty until the trainer fills it
+    batch = batch_on_a_bed()
+    k, q = config.mixture.num_components, config.mixture.yaw_modes
+    modes = torch.randn(k, 3, generator=torch.Generator().manual_seed(1))
+    with torch.no_grad():
+        before = model(batch)[0]
+        model.pair_mode[BED, PILLOW, FRAME_SUPPORT] = modes
+        after = model(batch)[0]
+    turned = modes.repeat_interleave(q, dim=0)  # (K*Q, 3): a component's turns alike
+    torch.testing.assert_close(after.loc[..., :2], before.loc[..., :2] + turned[:, :2])
+    torch.testing.assert_close(after.loc[..., 2:], before.loc[..., 2:])
+    torch.testing.assert_close(after.logits, before.logits + turned[:, 2])
+    torch.testing.assert_close(after.log_scale, before.log_scale)
+
+
+def test_the_mode_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
+    on = tiny(pair_prior=True, pair_modes=True)
+    shapes = expected_shapes(on, None)
+    assert shapes["pair_mode"] == mode_table_shape(on.n_categories, on.mixture.num_components)
+    assert "pair_mode" not in expected_shapes(tiny(pair_prior=True), None)
+    assert not tiny(pair_modes=True).uses_pair_modes  # it refines the pair table
+    model = LayoutPredictor(on, None, materialise=False)
+    assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
+    doc = json.loads(json.dumps(layout_config_to_dict(on)))
+    assert layout_config_from_dict(doc) == on
+    del doc["pair_modes"]  # written before the clusters
+    assert layout_config_from_dict(doc).pair_modes is False

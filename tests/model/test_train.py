@@ -87,6 +87,38 @@ def test_pair_turns_without_yaw_turns_is_a_user_error():
         TrainConfig(preset="tiny", pair_turns=True, yaw_modes=1).resolved_preset()
 
 
+def test_pair_modes_without_the_pair_table_is_a_user_error():
+    with pytest.raises(UserError, match="--pair-modes refines the pair table"):
+        TrainConfig(preset="tiny", pair_modes=True, pair_prior=False).resolved_preset()
+
+
+def test_pair_modes_put_the_train_tuples_clusters_in_the_checkpoint(
+    tmp_path, pairs_dir, tiny_encoder
+):
+    from safetensors.numpy import load_file
+
+    from pair2scene.curation.dataset import CATEGORY_VOCAB
+    from pair2scene.model.features import dataset_features
+    from pair2scene.model.pair_prior import pair_mode_table
+    from pair2scene.model.train import _split_rows, _subset
+
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, pair_modes=True)
+    run = train(cfg, pairs_dir, tmp_path, progress=False)
+    doc = json.loads((run.out_dir / CONFIG_FILE).read_text())
+    assert doc["layout"]["pair_modes"] is True
+    data = load_pairs(pairs_dir)
+    arrays = dataset_features(data, "full", anchor_frames=True).arrays
+    rows = _subset(arrays, _split_rows(data, "train"))
+    want = pair_mode_table(
+        rows.categories, rows.frames, rows.target, len(CATEGORY_VOCAB),
+        doc["layout"]["mixture"]["num_components"],
+    )  # fmt: skip
+    assert want.any()
+    np.testing.assert_array_equal(load_file(str(run.out_dir / WEIGHTS_FILE))["pair_mode"], want)
+    model = from_pretrained(run.out_dir)  # and generation reads it
+    assert model.net._pair_mode is not None
+
+
 def test_pair_turns_put_the_train_tuples_yaw_turn_table_in_the_checkpoint(
     tmp_path, pairs_dir, tiny_encoder
 ):

@@ -207,6 +207,14 @@ def train_command(
             "network alone."
         ),
     ] = True,
+    pair_modes: Annotated[
+        bool,
+        typer.Option(
+            help="Give each category pair one centre per mixture component: its train "
+            "tuples' k-means clusters and their shares (a pair that lies in two places keeps "
+            "both); --no-pair-modes: the pair's median alone. Needs --pair-prior."
+        ),
+    ] = False,
     pair_turns: Annotated[
         bool,
         typer.Option(
@@ -239,6 +247,7 @@ def train_command(
         anchor_frames=anchor_frames,
         yaw_modes=yaw_modes,
         pair_prior=pair_prior,
+        pair_modes=pair_modes,
         pair_turns=pair_turns,
     )
     result = train(config, data, out, progress=not as_json)

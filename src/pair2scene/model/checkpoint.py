@@ -118,7 +118,7 @@ from pair2scene.model.config import (
     MixtureConfig,
     PointMAEConfig,
 )
-from pair2scene.model.pair_prior import table_shape, turn_table_shape
+from pair2scene.model.pair_prior import mode_table_shape, table_shape, turn_table_shape
 
 if TYPE_CHECKING:  # torch is imported where a network is built, not to read a checkpoint
     import torch
@@ -206,6 +206,7 @@ def layout_config_from_dict(doc: dict) -> LayoutConfig:
     doc.setdefault("anchor_frames", False)  # written before issue 18: the support's frame
     doc.setdefault("pair_prior", False)  # written before the pair table
     doc.setdefault("pair_turns", False)  # written before the pair table's yaw turns
+    doc.setdefault("pair_modes", False)  # written before the pair table's clusters
     mix = dict(doc.pop("mixture"))
     mix.setdefault("yaw_modes", 1)  # written before the right-angle yaw modes
     mix["entropy_regulariser"] = EntropyRegulariser(mix["entropy_regulariser"])
@@ -253,6 +254,7 @@ LAYOUT_FIELDS: dict[str, FieldRange] = {
     "anchor_frames": _FLAG,
     "pair_prior": _FLAG,
     "pair_turns": _FLAG,
+    "pair_modes": _FLAG,
 }
 """``layout`` (besides ``mixture``): :class:`~pair2scene.model.layout.LayoutConfig`."""
 MIXTURE_FIELDS: dict[str, FieldRange] = {
@@ -287,6 +289,7 @@ LEGACY_DEFAULTS: dict[str, Any] = {
     "layout.mixture.yaw_modes": 1,
     "layout.pair_prior": False,
     "layout.pair_turns": False,
+    "layout.pair_modes": False,
 }
 """Fields older checkpoints lack, and what they mean there."""
 
@@ -592,6 +595,11 @@ def expected_shapes(
         "member_queries": (N_MEMBERS, c.queries, w),
         "unknown_box": (w,),  # (a module's own parameters come before its children's)
         **({"pair_centre": table_shape(c.n_categories)} if c.uses_pair_prior else {}),
+        **(
+            {"pair_mode": mode_table_shape(c.n_categories, c.mixture.num_components)}
+            if c.uses_pair_modes
+            else {}
+        ),
         **(
             {"pair_turn": turn_table_shape(c.n_categories, c.mixture.yaw_modes)}
             if c.uses_pair_turns

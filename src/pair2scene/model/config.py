@@ -206,6 +206,15 @@ class LayoutConfig:
     shared network gives every small object on a bed one split (docs/model.md). The table
     is the checkpoint's ``pair_turn`` buffer. Needs ``mixture.yaw_modes`` > 1; ``global``
     ignores it."""
+    pair_modes: bool = False
+    """Give each (frame anchor, dependent) pair one centre per mixture component instead
+    of its median alone: its train tuples' centres in ``mixture.num_components`` k-means
+    clusters, largest first, each added to its component's location (as an offset from
+    the median) and its log share to the component's logit. A pair whose tuples lie in
+    two places (pillows at a bed's head, a fifth towards its foot) then has a component
+    at each, where one median left the network's residuals to reach the second
+    (docs/model.md). The table is the checkpoint's ``pair_mode`` buffer. Needs
+    ``pair_prior``; ``global`` ignores it."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "variant", LayoutVariant(self.variant))
@@ -233,6 +242,11 @@ class LayoutConfig:
     def uses_pair_prior(self) -> bool:
         """Whether the network adds the pair table's centres (``global`` never does)."""
         return self.pair_prior and self.variant is not LayoutVariant.GLOBAL
+
+    @property
+    def uses_pair_modes(self) -> bool:
+        """Whether the network adds the pair table's cluster centres and shares."""
+        return self.pair_modes and self.uses_pair_prior
 
     @property
     def uses_pair_turns(self) -> bool:

@@ -123,7 +123,12 @@ from pair2scene.model.mixture import (
     mixture_params_from_head,
     target_from_box_vector,
 )
-from pair2scene.model.pair_prior import CENTRE_DIMS, table_shape, turn_table_shape
+from pair2scene.model.pair_prior import (
+    CENTRE_DIMS,
+    mode_table_shape,
+    table_shape,
+    turn_table_shape,
+)
 
 
 @dataclass
@@ -339,6 +344,9 @@ class LayoutPredictor(nn.Module):
                 self.frame = nn.Embedding(len(FRAME_NAMES), c.width)
             if c.uses_pair_prior:  # filled by the trainer, loaded with the weights
                 self.register_buffer("pair_centre", torch.empty(table_shape(c.n_categories)))
+            if c.uses_pair_modes:  # the same
+                shape = mode_table_shape(c.n_categories, c.mixture.num_components)
+                self.register_buffer("pair_mode", torch.empty(shape))
             if c.uses_pair_turns:  # the same
                 shape = turn_table_shape(c.n_categories, c.mixture.yaw_modes)
                 self.register_buffer("pair_turn", torch.empty(shape))
@@ -391,6 +399,8 @@ class LayoutPredictor(nn.Module):
         normal(self.unknown_box, 1.0)  # like the box MLP's output: O(1) per element
         if self.config.uses_pair_prior:
             nn.init.zeros_(self.pair_centre)  # no pair's centre until the trainer fills it
+        if self.config.uses_pair_modes:
+            nn.init.zeros_(self.pair_mode)
         if self.config.uses_pair_turns:
             nn.init.zeros_(self.pair_turn)
 
@@ -488,6 +498,12 @@ class LayoutPredictor(nn.Module):
             raw, mix.num_components, BOX_DIM, mix.min_log_scale, mix.max_log_scale, mix.yaw_modes
         )
         params = params._replace(loc=params.loc + known[:, None, :])
+        if c.uses_pair_modes:  # the pair's clusters: each component its own centre and share
+            modes = self.pair_lookup(self.pair_mode, batch)  # (B, K, 3)
+            modes = modes.repeat_interleave(mix.yaw_modes, dim=1)  # (B, K*Q, 3): turns alike
+            loc = params.loc.clone()
+            loc[..., :CENTRE_DIMS] += modes[..., :CENTRE_DIMS]
+            params = params._replace(logits=params.logits + modes[..., CENTRE_DIMS], loc=loc)
         if batch.target is None:
             return params, None
         return params, self.loss(params, batch.target)[0]

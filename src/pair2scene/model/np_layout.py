@@ -296,6 +296,7 @@ class NumpyPredictor:
         self._frame = arrays["frame.weight"] if self.uses_frames else None
         self._pair_centre = arrays["pair_centre"] if c.uses_pair_prior else None
         self._pair_turn = arrays["pair_turn"] if c.uses_pair_turns else None
+        self._pair_mode = arrays["pair_mode"] if c.uses_pair_modes else None
         if c.uses_points:
             self._point_proj = linear("point_proj")
             self._point_pos = mlp("point_pos")
@@ -413,6 +414,11 @@ class NumpyPredictor:
             raw[:, -k * turns :] += np.tile(prior, (1, k))
         params = self._mixture_from_head(raw)
         np.add(params.loc, known[:, None, :], out=params.loc)
+        if self._pair_mode is not None:  # the pair's clusters: each component its own
+            modes = table_rows(self._pair_mode, categories, keyed)  # (B, K, 3)
+            modes = np.repeat(modes, c.mixture.yaw_modes, axis=1)  # (B, K*Q, 3)
+            params.loc[..., :CENTRE_DIMS] += modes[..., :CENTRE_DIMS]
+            params.logits[...] += modes[..., CENTRE_DIMS]
         return params
 
     def from_mixture_space(self, y: np.ndarray) -> np.ndarray:

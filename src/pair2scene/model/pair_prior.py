@@ -134,3 +134,75 @@ def table_rows(table: np.ndarray, categories: np.ndarray, frames: np.ndarray | N
     anchor = np.clip(frame_anchor(categories, frame), 0, table.shape[0] - 1)
     dep = np.clip(categories[:, DEPENDENT], 0, table.shape[1] - 1)
     return table[anchor, dep, frame]
+
+
+MODE_VALUES = 3
+"""The mode table's values per pair and component: the cluster centre's x and y, less the
+pair's median (its offset from :func:`pair_centre_table`'s centre), and its log share."""
+KMEANS_ITERATIONS = 25
+SHARE_PSEUDO_COUNT = 0.5
+"""Added to each cluster's count before the log share: an empty cluster keeps some weight."""
+
+
+def mode_table_shape(n_categories: int, modes: int) -> tuple[int, int, int, int, int]:
+    """(anchors, dependents, frames, K, 3): the ``pair_mode`` buffer's shape."""
+    return (n_categories, n_categories, len(FRAME_NAMES), modes, MODE_VALUES)
+
+
+def pair_mode_table(
+    categories: np.ndarray,
+    frames: np.ndarray | None,
+    centres: np.ndarray,
+    n_categories: int,
+    modes: int,
+    min_tuples: int = PAIR_PRIOR_MIN_TUPLES,
+) -> np.ndarray:
+    """The mode table (:func:`mode_table_shape`, float32) from train tuples: for a pair with
+    at least ``min_tuples``, its tuples' centres (x, y) split into ``modes`` clusters
+    (:func:`kmeans`), largest first, each as its centre's offset from the pair's median
+    and its centred log share; 0 elsewhere (the median alone, every component alike).
+
+    A pair whose tuples lie in two places (pillows at a bed's head and, a fifth of them,
+    towards its foot) gets a component near each; the network predicts each component's
+    residual and reweights them, as it does the median's.
+    """
+    table = np.zeros(mode_table_shape(n_categories, modes), np.float32)
+    xy = np.asarray(centres, np.float64)[:, :CENTRE_DIMS]
+    for (a, d, f), rows in _pair_groups(categories, frames, n_categories, min_tuples):
+        points = xy[rows]
+        centre, counts = kmeans(points, modes, seed=(a, d, f))
+        share = np.log(counts + SHARE_PSEUDO_COUNT)
+        table[a, d, f, :, :CENTRE_DIMS] = centre - np.median(points, axis=0)
+        table[a, d, f, :, CENTRE_DIMS] = share - share.mean()
+    return table
+
+
+def kmeans(points: np.ndarray, k: int, seed=0) -> tuple[np.ndarray, np.ndarray]:
+    """(centres (k, 2), counts (k,)) of ``points`` (N, 2) in ``k`` clusters, largest
+    first: k-means++ seeding from ``seed``, then Lloyd's iterations. With fewer distinct
+    points than ``k``, the spare clusters sit on the largest one's centre with no points."""
+    rng = np.random.default_rng(np.asarray(seed, np.int64).reshape(-1) % (2**32))
+    pts = np.unique(points, axis=0)
+    take = [int(rng.integers(len(pts)))]
+    while len(take) < min(k, len(pts)):
+        d2 = ((pts[:, None] - pts[take][None]) ** 2).sum(-1).min(1)
+        if d2.sum() <= 0:
+            break
+        take.append(int(rng.choice(len(pts), p=d2 / d2.sum())))
+    centres = pts[take].copy()
+    for _ in range(KMEANS_ITERATIONS):
+        label = ((points[:, None] - centres[None]) ** 2).sum(-1).argmin(1)
+        moved = np.array([points[label == j].mean(0) if (label == j).any() else centres[j]
+                          for j in range(len(centres))])  # fmt: skip
+        if np.array_equal(moved, centres):
+            break
+        centres = moved
+    label = ((points[:, None] - centres[None]) ** 2).sum(-1).argmin(1)
+    counts = np.bincount(label, minlength=len(centres)).astype(np.float64)
+    order = np.lexsort((centres[:, 1], centres[:, 0], -counts))
+    centres, counts = centres[order], counts[order]
+    spare = k - len(centres)
+    if spare:
+        centres = np.concatenate([centres, np.repeat(centres[:1], spare, axis=0)])
+        counts = np.concatenate([counts, np.zeros(spare)])
+    return centres, counts

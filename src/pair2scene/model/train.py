@@ -43,7 +43,7 @@ from pair2scene.model.features import (
     encode_clouds,
 )
 from pair2scene.model.layout import LayoutPredictor, LayoutVariant
-from pair2scene.model.pair_prior import pair_centre_table, pair_turn_table
+from pair2scene.model.pair_prior import pair_centre_table, pair_mode_table, pair_turn_table
 from pair2scene.model.pointmae import PointMAEEncoder
 from pair2scene.model.presets import TrainPreset, preset
 from pair2scene.model.pretrain import load_encoder
@@ -80,6 +80,10 @@ class TrainConfig:
     """Add each category pair's median centre over the train tuples to the network's
     output (:attr:`LayoutConfig.pair_prior`, :mod:`pair2scene.model.pair_prior`); False:
     the network alone places every pair."""
+    pair_modes: bool = False
+    """Give each category pair one centre per mixture component, its train tuples'
+    k-means clusters with their shares (:attr:`LayoutConfig.pair_modes`); False: the
+    pair's median alone. Needs ``pair_prior``."""
     pair_turns: bool = False
     """Add each category pair's log share of each yaw turn over the train tuples to the
     network's turn logits (:attr:`LayoutConfig.pair_turns`); False (the bundled model's):
@@ -104,6 +108,10 @@ class TrainConfig:
             p = dataclasses.replace(
                 p, layout=dataclasses.replace(p.layout, pair_prior=self.pair_prior)
             )
+        if p.layout.pair_modes != self.pair_modes:
+            p = dataclasses.replace(
+                p, layout=dataclasses.replace(p.layout, pair_modes=self.pair_modes)
+            )
         if p.layout.pair_turns != self.pair_turns:
             p = dataclasses.replace(
                 p, layout=dataclasses.replace(p.layout, pair_turns=self.pair_turns)
@@ -114,6 +122,8 @@ class TrainConfig:
             except ValueError as e:
                 raise UserError(f"--yaw-modes: {e}") from None
             p = dataclasses.replace(p, layout=dataclasses.replace(p.layout, mixture=mix))
+        if self.pair_modes and not self.pair_prior:
+            raise UserError("--pair-modes refines the pair table: it needs --pair-prior")
         if self.pair_turns and p.layout.mixture.yaw_modes == 1:
             raise UserError("--pair-turns needs yaw turns to share out: --yaw-modes 2 or 4")
         return p
@@ -308,6 +318,12 @@ def train(
             train_arr.categories, train_arr.frames, train_arr.target, p.layout.n_categories
         )
         model.pair_centre.copy_(torch.from_numpy(table))
+    if p.layout.uses_pair_modes:  # the train tuples' own clusters (the same)
+        modes = pair_mode_table(
+            train_arr.categories, train_arr.frames, train_arr.target, p.layout.n_categories,
+            p.layout.mixture.num_components,
+        )  # fmt: skip
+        model.pair_mode.copy_(torch.from_numpy(modes))
     if p.layout.uses_pair_turns:  # the train tuples' own yaw turns (the same)
         turns = pair_turn_table(
             train_arr.categories, train_arr.frames, train_arr.target[:, 6:8],
