@@ -235,6 +235,22 @@ def test_pillow_flat_and_standing():
     assert len(_parts(piped, "piping")) >= 8
 
 
+@pytest.mark.parametrize("style", [0, 1, 2])
+def test_a_lying_pillow_rests_on_a_flat_underside(style):
+    """Its lowest faces make one flat patch across much of its footprint (a domed or round
+    underside rocked on a mattress in the stability simulation); still in its box, and
+    every part convex."""
+    size = np.array([0.6, 0.4, 0.16])
+    asset = generate("pillow", size, rng=style, style=style)
+    np.testing.assert_allclose(asset.mesh.bounds, [-size / 2, size / 2], atol=1e-9)
+    assert all(p.mesh.is_convex() for p in asset.parts)
+    tris = asset.mesh.triangles
+    flat = np.all(np.abs(tris[:, :, 2] + size[2] / 2) < 1e-9, axis=1)
+    base = tris[flat].reshape(-1, 3)[:, :2]
+    extent = base.max(0) - base.min(0)
+    assert np.all(extent > 0.4 * size[:2]), extent
+
+
 def test_box_open_has_room_inside_closed_has_flat_top():
     for size in _sizes("box"):
         open_box = generate("box", size, rng=1, style=0)
