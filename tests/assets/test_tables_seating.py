@@ -231,7 +231,8 @@ def test_tall_beds_are_bunk_beds(size, style):
     assert size[2] >= BUNK_MIN_HEIGHT_M > max(s[2] for s in SIZES["bed"])
     asset = generate("bed", size, rng=style, style=style)
     sx, sy, sz = size
-    np.testing.assert_allclose(asset.mesh.bounds, [[-sx / 2, -sy / 2, -sz / 2], [sx / 2, sy / 2, sz / 2]], atol=1e-6)  # fmt: skip
+    half = np.array(size) / 2
+    np.testing.assert_allclose(asset.mesh.bounds, [-half, half], atol=1e-6)
     assert len({p.name for p in asset.parts}) == len(asset.parts) < MAX_PARTS
     for part in asset.parts:
         assert part.mesh.is_convex() and part.mesh.is_watertight(), part.name

@@ -132,17 +132,25 @@ def test_the_predictor_adds_the_tables_centre_to_every_component():
     torch.testing.assert_close(after.log_scale, before.log_scale)
 
 
-def test_the_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
-    on, off = tiny(pair_prior=True), tiny()
+def _a_checkpoint_tensor_off_in_older_configs(on: LayoutConfig, flag: str) -> dict:
+    """``on``'s expected checkpoint shapes, after checking that a predictor's state dict has
+    them, that its config reads back, and that a config without ``flag`` (written before
+    it) reads it as off."""
     shapes = expected_shapes(on, None)
-    assert shapes["pair_centre"] == table_shape(on.n_categories)
-    assert "pair_centre" not in expected_shapes(off, None)
     model = LayoutPredictor(on, None, materialise=False)
     assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
     doc = json.loads(json.dumps(layout_config_to_dict(on)))
     assert layout_config_from_dict(doc) == on
-    del doc["pair_prior"]  # written before the table
-    assert layout_config_from_dict(doc).pair_prior is False
+    del doc[flag]
+    assert getattr(layout_config_from_dict(doc), flag) is False
+    return shapes
+
+
+def test_the_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
+    on, off = tiny(pair_prior=True), tiny()
+    shapes = _a_checkpoint_tensor_off_in_older_configs(on, "pair_prior")
+    assert shapes["pair_centre"] == table_shape(on.n_categories)
+    assert "pair_centre" not in expected_shapes(off, None)
     assert not tiny(variant=LayoutVariant.GLOBAL, pair_prior=True).uses_pair_prior
 
 
@@ -172,12 +180,17 @@ def test_a_pairs_yaw_turns_are_its_smoothed_log_shares():
     )
 
 
-def test_the_predictor_adds_the_pairs_turn_shares_to_every_components_turn_logits():
-    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True, pair_turns=True)
+def _class_only_with(table: str, **flags):
+    """(a class-only predictor with the pair table and ``flags``, its empty ``table``
+    checked, a batch on a bed, K, Q)."""
+    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True, **flags)
     model = LayoutPredictor(config, None, torch.Generator().manual_seed(0)).eval()
-    assert not model.pair_turn.any()  # empty until the trainer fills it
-    batch = batch_on_a_bed()
-    k, q = config.mixture.num_components, config.mixture.yaw_modes
+    assert not getattr(model, table).any()  # empty until the trainer fills it
+    return model, batch_on_a_bed(), config.mixture.num_components, config.mixture.yaw_modes
+
+
+def test_the_predictor_adds_the_pairs_turn_shares_to_every_components_turn_logits():
+    model, batch, k, q = _class_only_with("pair_turn", pair_turns=True)
     prior = torch.tensor([1.5, -0.5, -0.2, -0.8])
     with torch.no_grad():
         before = model(batch)[0]
@@ -196,15 +209,9 @@ def test_the_predictor_adds_the_pairs_turn_shares_to_every_components_turn_logit
 
 def test_the_turn_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
     on = tiny(pair_turns=True)
-    shapes = expected_shapes(on, None)
+    shapes = _a_checkpoint_tensor_off_in_older_configs(on, "pair_turns")
     assert shapes["pair_turn"] == turn_table_shape(on.n_categories, on.mixture.yaw_modes)
     assert "pair_turn" not in expected_shapes(tiny(), None)
-    model = LayoutPredictor(on, None, materialise=False)
-    assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
-    doc = json.loads(json.dumps(layout_config_to_dict(on)))
-    assert layout_config_from_dict(doc) == on
-    del doc["pair_turns"]  # written before the turn table
-    assert layout_config_from_dict(doc).pair_turns is False
     assert not tiny(variant=LayoutVariant.GLOBAL, pair_turns=True).uses_pair_turns
 
 
@@ -241,11 +248,7 @@ def test_mode_table_offsets_from_the_median_and_centred_log_shares():
 
 
 def test_the_predictor_gives_each_component_its_clusters_centre_and_share():
-    config = tiny(variant=LayoutVariant.CLASS_ONLY, pair_prior=True, pair_modes=True)
-    model = LayoutPredictor(config, None, torch.Generator().manual_seed(0)).eval()
-    assert not model.pair_mode.any()  # empty until the trainer fills it
-    batch = batch_on_a_bed()
-    k, q = config.mixture.num_components, config.mixture.yaw_modes
+    model, batch, k, q = _class_only_with("pair_mode", pair_modes=True)
     modes = torch.randn(k, 3, generator=torch.Generator().manual_seed(1))
     with torch.no_grad():
         before = model(batch)[0]
@@ -260,13 +263,7 @@ def test_the_predictor_gives_each_component_its_clusters_centre_and_share():
 
 def test_the_mode_table_is_a_checkpoint_tensor_and_older_configs_read_as_off():
     on = tiny(pair_prior=True, pair_modes=True)
-    shapes = expected_shapes(on, None)
+    shapes = _a_checkpoint_tensor_off_in_older_configs(on, "pair_modes")
     assert shapes["pair_mode"] == mode_table_shape(on.n_categories, on.mixture.num_components)
     assert "pair_mode" not in expected_shapes(tiny(pair_prior=True), None)
     assert not tiny(pair_modes=True).uses_pair_modes  # it refines the pair table
-    model = LayoutPredictor(on, None, materialise=False)
-    assert {k: tuple(v.shape) for k, v in model.state_dict().items()} == shapes
-    doc = json.loads(json.dumps(layout_config_to_dict(on)))
-    assert layout_config_from_dict(doc) == on
-    del doc["pair_modes"]  # written before the clusters
-    assert layout_config_from_dict(doc).pair_modes is False

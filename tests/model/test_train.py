@@ -92,58 +92,48 @@ def test_pair_modes_without_the_pair_table_is_a_user_error():
         TrainConfig(preset="tiny", pair_modes=True, pair_prior=False).resolved_preset()
 
 
-def test_pair_modes_put_the_train_tuples_clusters_in_the_checkpoint(
-    tmp_path, pairs_dir, tiny_encoder
-):
-    from safetensors.numpy import load_file
-
-    from pair2scene.curation.dataset import CATEGORY_VOCAB
-    from pair2scene.model.features import dataset_features
-    from pair2scene.model.pair_prior import pair_mode_table
-    from pair2scene.model.train import _split_rows, _subset
-
-    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, pair_modes=True)
-    run = train(cfg, pairs_dir, tmp_path, progress=False)
-    doc = json.loads((run.out_dir / CONFIG_FILE).read_text())
-    assert doc["layout"]["pair_modes"] is True
-    data = load_pairs(pairs_dir)
-    arrays = dataset_features(data, "full", anchor_frames=True).arrays
-    rows = _subset(arrays, _split_rows(data, "train"))
-    want = pair_mode_table(
-        rows.categories, rows.frames, rows.target, len(CATEGORY_VOCAB),
-        doc["layout"]["mixture"]["num_components"],
-    )  # fmt: skip
-    assert want.any()
-    np.testing.assert_array_equal(load_file(str(run.out_dir / WEIGHTS_FILE))["pair_mode"], want)
-    model = from_pretrained(run.out_dir)  # and generation reads it
-    assert model.net._pair_mode is not None
-
-
-def test_pair_turns_put_the_train_tuples_yaw_turn_table_in_the_checkpoint(
-    tmp_path, pairs_dir, tiny_encoder
-):
-    from safetensors.numpy import load_file
-
-    from pair2scene.curation.dataset import CATEGORY_VOCAB
-    from pair2scene.model.features import dataset_features
+def _turn_table(rows, layout):
     from pair2scene.model.pair_prior import pair_turn_table
+
+    return pair_turn_table(
+        rows.categories, rows.frames, rows.target[:, 6:8], layout["n_categories"],
+        layout["mixture"]["yaw_modes"],
+    )  # fmt: skip
+
+
+def _mode_table(rows, layout):
+    from pair2scene.model.pair_prior import pair_mode_table
+
+    return pair_mode_table(
+        rows.categories, rows.frames, rows.target, layout["n_categories"],
+        layout["mixture"]["num_components"],
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("option", "tensor", "table"),
+    [("pair_turns", "pair_turn", _turn_table), ("pair_modes", "pair_mode", _mode_table)],
+    ids=["turns", "modes"],
+)
+def test_a_pair_table_option_puts_the_train_tuples_table_in_the_checkpoint(
+    tmp_path, pairs_dir, tiny_encoder, option, tensor, table
+):
+    from safetensors.numpy import load_file
+
+    from pair2scene.model.features import dataset_features
     from pair2scene.model.train import _split_rows, _subset
 
-    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, pair_turns=True)
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, **{option: True})
     run = train(cfg, pairs_dir, tmp_path, progress=False)
     doc = json.loads((run.out_dir / CONFIG_FILE).read_text())
-    assert doc["layout"]["pair_turns"] is True
+    assert doc["layout"][option] is True
     data = load_pairs(pairs_dir)
     arrays = dataset_features(data, "full", anchor_frames=True).arrays
-    rows = _subset(arrays, _split_rows(data, "train"))
-    want = pair_turn_table(
-        rows.categories, rows.frames, rows.target[:, 6:8], len(CATEGORY_VOCAB),
-        doc["layout"]["mixture"]["yaw_modes"],
-    )  # fmt: skip
+    want = table(_subset(arrays, _split_rows(data, "train")), doc["layout"])
     assert want.any()  # the synthetic corpus has pairs with enough tuples
-    np.testing.assert_array_equal(load_file(str(run.out_dir / WEIGHTS_FILE))["pair_turn"], want)
+    np.testing.assert_array_equal(load_file(str(run.out_dir / WEIGHTS_FILE))[tensor], want)
     model = from_pretrained(run.out_dir)  # and generation reads it
-    assert model.net._pair_turn is not None
+    assert getattr(model.net, f"_{tensor}") is not None
 
 
 def test_score_of_the_checkpoint_is_the_training_val_nll(trained, pairs_dir):

@@ -26,7 +26,7 @@ import numpy as np
 from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.assets.surfaces import ConvexPart, convex_parts
 from pair2scene.io.atomic import atomic_open
-from pair2scene.paths import cache_dir
+from pair2scene.paths import cache_dir, process_wide
 
 DEFAULT_POINTS = 2048
 """Points per cloud for training and generation (Point-MAE groups of 32 fit 64 times)."""
@@ -227,16 +227,9 @@ def load_cached(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
     return None
 
 
-_DEFAULT: PointCloudCache | None = None
-
-
 def default_cache() -> PointCloudCache:
     """The process-wide cache under the current :func:`pair2scene.paths.cache_dir`."""
-    global _DEFAULT
-    root = cache_dir() / "pointclouds"
-    if _DEFAULT is None or _DEFAULT.root != root:
-        _DEFAULT = PointCloudCache(root)
-    return _DEFAULT
+    return process_wide("pointclouds", PointCloudCache)
 
 
 def asset_point_cloud(

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.io.atomic import atomic_open, remove_stale_temporaries
-from pair2scene.paths import cache_dir
+from pair2scene.paths import cache_dir, process_wide
 
 STORE_FORMAT = 1
 """Bump when what a file holds changes: part of the folder's digest."""
@@ -154,13 +154,6 @@ class SurfaceStore:
             np.save(fh, encode(found), allow_pickle=False)
 
 
-_DEFAULT: SurfaceStore | None = None
-
-
 def default_store() -> SurfaceStore:
     """The process-wide store under the current :func:`pair2scene.paths.cache_dir`."""
-    global _DEFAULT
-    root = cache_dir() / "surfaces"
-    if _DEFAULT is None or _DEFAULT.root != root:
-        _DEFAULT = SurfaceStore(root)
-    return _DEFAULT
+    return process_wide("surfaces", SurfaceStore)
