@@ -17,9 +17,10 @@ Run from the repository root, on an idle machine::
 - ``beyond`` bedrooms of 20, 40, 80, 160 and 320 objects (:data:`BEYOND_SEEDS` fresh
   seeds each, median) and the cost slope, log(seconds) against log(objects) from 40 to
   320;
-- scenes a minute from one process and from two side by side (``--scenes`` each), and
-  the slow-down of one process while a CPU-bound process runs beside it, the three in
-  turn :data:`PAIRED_RUNS` times (medians; the ratios taken round by round);
+- scenes a minute from one process and from two side by side, the same ``2 * --scenes``
+  fit bedrooms either way (seeds 0..2N-1; two processes take half each), and the
+  slow-down of one process while a CPU-bound process runs beside it, the three in turn
+  :data:`PAIRED_RUNS` times (medians; the ratios taken round by round);
 - Point-MAE on the fit bedrooms' asset clouds, one cloud at a time against batched.
 
 Writes the figures into ``docs/benchmarks.md`` under ``## Speed`` (that section only).
@@ -182,8 +183,11 @@ def encoder_batching(p2s, assets: list) -> tuple[int, float, float, bool]:
 
 
 def per_minute(tmp: Path, processes: int, num: int, busy: bool = False) -> float:
-    """Scenes a minute from ``processes`` generate runs side by side (``num`` each), with
-    a CPU-bound process beside them when ``busy``."""
+    """Scenes a minute from ``processes`` generate runs side by side that make fit
+    bedrooms of seeds 0..``num``-1 between them (each its share of consecutive seeds: one
+    process and two make the same rooms), with a CPU-bound process beside them when
+    ``busy``."""
+    share = num // processes
     burner = None
     if busy:
         burner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
@@ -193,8 +197,8 @@ def per_minute(tmp: Path, processes: int, num: int, busy: bool = False) -> float
         for k in range(processes):
             out = tmp / f"pm{processes}{busy}{k}"
             shutil.rmtree(out, ignore_errors=True)  # (a folder left by a round would resume)
-            cmd = [*CLI, "generate", "--room", "bedroom", "--num", str(num),
-                   "--seed", str(1000 * k), "--out", str(out)]  # fmt: skip
+            cmd = [*CLI, "generate", "--room", "bedroom", "--num", str(share),
+                   "--seed", str(share * k), "--out", str(out)]  # fmt: skip
             procs.append(subprocess.Popen(cmd, stdout=subprocess.DEVNULL,
                                           stderr=subprocess.DEVNULL))  # fmt: skip
         codes = [p.wait() for p in procs]
@@ -205,7 +209,7 @@ def per_minute(tmp: Path, processes: int, num: int, busy: bool = False) -> float
             burner.wait()
     if any(codes):
         sys.exit(f"a generate process failed: {codes}")
-    return 60.0 * processes * num / seconds
+    return 60.0 * processes * share / seconds
 
 
 def main() -> int:
@@ -224,8 +228,8 @@ def main() -> int:
         # One, two and busy in turn, PAIRED_RUNS times: the ratios are taken run by run
         # (a noisy neighbour moves one run, not the median).
         runs = [
-            (per_minute(tmp, 1, a.scenes), per_minute(tmp, 2, a.scenes),
-             per_minute(tmp, 1, a.scenes, busy=True))
+            (per_minute(tmp, 1, 2 * a.scenes), per_minute(tmp, 2, 2 * a.scenes),
+             per_minute(tmp, 1, 2 * a.scenes, busy=True))
             for _ in range(PAIRED_RUNS)
         ]  # fmt: skip
         one = statistics.median(r[0] for r in runs)
@@ -269,8 +273,9 @@ def main() -> int:
         f"| cost slope, 40 to 320 objects asked (log-log of the medians; against objects "
         f"placed: {placed_slope:.2f}; of the mean times: {mean_slope:.2f}) | {slope:.2f} | "
         "<= 1.05 |",
-        f"| scenes a minute, one process / two side by side ({cores} cores; medians of "
-        f"{PAIRED_RUNS} runs in turn, the gain run by run) | {one:.1f} / {two:.1f} "
+        f"| scenes a minute, one process / two side by side ({cores} cores; the same "
+        f"{2 * a.scenes} bedrooms either way; medians of {PAIRED_RUNS} runs in turn, the "
+        f"gain run by run) | {one:.1f} / {two:.1f} "
         f"({gain:.2f}x) | >= 1.8x |",
         f"| one process beside a CPU-bound one, slow-down (median of {PAIRED_RUNS}, run by "
         f"run) | {slowdown:.2f}x | <= 2.2x |",
