@@ -19,7 +19,9 @@ import hashlib
 import os
 import weakref
 from collections import OrderedDict
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 
@@ -27,6 +29,8 @@ from pair2scene.assets.mesh import Asset, Mesh
 from pair2scene.assets.surfaces import ConvexPart, convex_parts
 from pair2scene.io.atomic import atomic_open
 from pair2scene.paths import cache_dir, process_wide
+
+T = TypeVar("T")
 
 DEFAULT_POINTS = 2048
 """Points per cloud for training and generation (Point-MAE groups of 32 fit 64 times)."""
@@ -206,25 +210,34 @@ class PointCloudCache:
         return load_cached(path, (n, 6))
 
 
-def load_cached(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
-    """The finite float32 array of ``shape`` a cache file holds, or None: missing, or
-    not such an array (unreadable, another shape: the file is deleted, to be rebuilt)."""
+def read_cache_file(path: Path, accept: Callable[[np.ndarray], T]) -> T | None:
+    """``accept`` of the array a cache file holds, or None: missing, or unreadable, or
+    refused (``accept`` raised ValueError): the file is then deleted, to be rebuilt."""
     try:
-        data = np.load(path, allow_pickle=False)
+        return accept(np.load(path, allow_pickle=False))
     except FileNotFoundError:
         return None
     except (OSError, ValueError, EOFError):
-        data = None
-    if (
-        isinstance(data, np.ndarray)
-        and data.dtype == np.float32
-        and data.shape == tuple(shape)
-        and np.isfinite(data).all()
-    ):
-        return data
-    with contextlib.suppress(OSError):
-        os.unlink(path)
-    return None
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+        return None
+
+
+def load_cached(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
+    """The finite float32 array of ``shape`` a cache file holds, or None: missing, or
+    not such an array (unreadable, another shape: the file is deleted, to be rebuilt)."""
+
+    def accept(data: np.ndarray) -> np.ndarray:
+        if (
+            isinstance(data, np.ndarray)
+            and data.dtype == np.float32
+            and data.shape == tuple(shape)
+            and np.isfinite(data).all()
+        ):
+            return data
+        raise ValueError("not the cached array")
+
+    return read_cache_file(path, accept)
 
 
 def default_cache() -> PointCloudCache:

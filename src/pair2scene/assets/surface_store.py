@@ -26,12 +26,12 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import os
 from functools import cache
 from pathlib import Path
 
 import numpy as np
 
+from pair2scene.assets.pointcloud import read_cache_file
 from pair2scene.io.atomic import atomic_open, remove_stale_temporaries
 from pair2scene.paths import cache_dir, process_wide
 
@@ -68,13 +68,14 @@ def encode(found) -> np.ndarray:
 
 
 def decode(data: np.ndarray):
-    """:func:`encode`'s inverse; ValueError when ``data`` is not such an array."""
+    """:func:`encode`'s inverse; ValueError when ``data`` is not such an array (every value
+    finite but the clearances, which may be inf)."""
     from pair2scene.assets.surfaces import SupportSurface
 
     if not (isinstance(data, np.ndarray) and data.dtype == np.float64 and data.ndim == 1):
         raise ValueError("not a flat float64 array")
-    if not np.isfinite(np.delete(data, _clearances(data))).all():
-        raise ValueError("non-finite values")
+    if len(data) > MAX_VALUES:
+        raise ValueError("longer than this store writes")
     pos = 0
 
     def take(n: int) -> np.ndarray:
@@ -84,8 +85,13 @@ def decode(data: np.ndarray):
         pos += n
         return data[pos - n : pos]
 
+    def finite(values: np.ndarray) -> np.ndarray:
+        if not np.isfinite(values).all():
+            raise ValueError("non-finite values")
+        return values
+
     def count(v: float) -> int:
-        if v != int(v) or v < 0:
+        if not np.isfinite(v) or v != int(v) or v < 0:
             raise ValueError("a count that is not a count")
         return int(v)
 
@@ -93,30 +99,19 @@ def decode(data: np.ndarray):
     rows = []
     for _ in range(n):
         z, area, clearance, n_poly, n_holes = take(5)
+        finite(np.array([z, area]))
+        if np.isnan(clearance):
+            raise ValueError("non-finite values")
         holes = [count(v) for v in take(count(n_holes))]
         rows.append((z, area, clearance, count(n_poly), holes))
     out = []
     for z, area, clearance, n_poly, holes in rows:
-        polygon = take(2 * n_poly).reshape(-1, 2).copy()
-        hole_arrays = tuple(take(2 * k).reshape(-1, 2).copy() for k in holes)
+        polygon = finite(take(2 * n_poly)).reshape(-1, 2).copy()
+        hole_arrays = tuple(finite(take(2 * k)).reshape(-1, 2).copy() for k in holes)
         out.append(SupportSurface(float(z), polygon, float(area), float(clearance), hole_arrays))
     if pos != len(data):
         raise ValueError("trailing values")
     return out
-
-
-def _clearances(data: np.ndarray) -> list[int]:
-    """Indices of the clearance values in an encoded array (the only ones that may be
-    inf), as far as its header can be read; the rest is checked by :func:`decode`."""
-    out, pos = [], 1
-    try:
-        n = int(data[0])
-        for _ in range(min(n, len(data))):
-            out.append(pos + 2)
-            pos += 5 + int(data[pos + 4])
-    except (IndexError, ValueError, OverflowError):
-        pass
-    return [i for i in out if 0 <= i < len(data)]
 
 
 class SurfaceStore:
@@ -132,18 +127,7 @@ class SurfaceStore:
     def get(self, key: str):
         """The surfaces stored under ``key``, or None (missing; a file that does not
         decode is deleted)."""
-        path = self.path(key)
-        try:
-            data = np.load(path, allow_pickle=False, mmap_mode=None)
-            if getattr(data, "size", 0) > MAX_VALUES:
-                raise ValueError("too long")
-            return decode(data)
-        except FileNotFoundError:
-            return None
-        except (OSError, ValueError, EOFError, TypeError):
-            with contextlib.suppress(OSError):
-                os.unlink(path)
-            return None
+        return read_cache_file(self.path(key), decode)
 
     def put(self, key: str, found) -> None:
         """Store an asset's surfaces, first removing what a killed process left of
