@@ -107,6 +107,23 @@ def test_gl_and_cpu_agree_on_the_silhouette():
     assert (gl ^ cpu).sum() < 0.1 * cpu.sum()
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_renders_started_before_the_last_is_read_give_their_own_pictures(backend):
+    """A render started while another is pending (the same render targets) finishes the
+    pending one first: each gives the picture a render on its own gives."""
+    red = [box((-0.5, -0.5, 0), (0.0, 0.0, 0.5))]
+    blue = [box((0.0, 0.0, 0), (0.5, 0.5, 0.5))]
+    alone = [
+        np.asarray(render.render_meshes(m, [c], "top", 48, bounds=FRAME, backend=backend))
+        for m, c in ((red, RED), (blue, BLUE))
+    ]
+    first = render.start_render(red, [RED], "top", 48, bounds=FRAME, backend=backend)
+    second = render.start_render(blue, [BLUE], "top", 48, bounds=FRAME, backend=backend)
+    assert np.array_equal(np.asarray(second.image()), alone[1])
+    assert np.array_equal(np.asarray(first.image()), alone[0])
+    assert first.image() is first.image()  # read once
+
+
 def test_failed_gl_falls_back_once(monkeypatch):
     calls = []
 

@@ -20,9 +20,10 @@ and the caption font (:func:`caption_font`). The asset contact sheet built on th
 
 from __future__ import annotations
 
+import ctypes
 import math
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Literal
@@ -188,10 +189,13 @@ void main() {
 
 # One output pixel averages its 2 x 2 samples. It is outlined when the mesh ids differ
 # inside its block or towards the next block right and up: every id boundary is then
-# drawn once, one output pixel wide. Ten texel fetches a pixel keep this pass at ~5 ms
-# for 512 x 512 on llvmpipe.
+# drawn once, one output pixel wide. The block's four texels come in one textureGather
+# per channel (four fetches with the id's, where ten texel fetches took 12 ms for
+# 768 x 768 on llvmpipe). The sum runs over the block in the order x then y, as a loop
+# over it would, for the same bits: a gather returns the texels (0, 1), (1, 1), (1, 0),
+# (0, 0) as x, y, z, w.
 _POST_FS = """
-#version 330
+#version 400
 uniform sampler2D t_color;
 uniform sampler2D t_id;
 uniform int outline_on;
@@ -200,22 +204,27 @@ uniform vec3 background;
 out vec4 f_color;
 const int SS = 2;
 
+vec3 sample_color(vec4 r, vec4 g, vec4 b, vec4 id, int k) {
+    return id[k] > 0.0 ? vec3(r[k], g[k], b[k]) : background;
+}
+
 void main() {
     ivec2 b = ivec2(gl_FragCoord.xy) * SS;
-    ivec2 hi = textureSize(t_id, 0) - 1;
-    float id0 = texelFetch(t_id, b, 0).r;
-    bool edge = false;
+    ivec2 size = textureSize(t_id, 0);
+    vec2 uv = (vec2(b) + 0.75) / vec2(size);  // the block's footprint, a margin either way
+    vec4 ids = textureGather(t_id, uv, 0);
+    float id0 = ids.w;
+    bool edge = any(notEqual(ids, vec4(id0)))
+        || texelFetch(t_id, min(b + ivec2(SS, 0), size - 1), 0).r != id0
+        || texelFetch(t_id, min(b + ivec2(0, SS), size - 1), 0).r != id0;
+    vec4 r = textureGather(t_color, uv, 0);
+    vec4 g = textureGather(t_color, uv, 1);
+    vec4 bl = textureGather(t_color, uv, 2);
     vec3 acc = vec3(0.0);
-    for (int y = 0; y < SS; y++) {
-        for (int x = 0; x < SS; x++) {
-            ivec2 p = b + ivec2(x, y);
-            float id = texelFetch(t_id, p, 0).r;
-            edge = edge || id != id0;
-            acc += id > 0.0 ? texelFetch(t_color, p, 0).rgb : background;
-        }
-    }
-    edge = edge || texelFetch(t_id, min(b + ivec2(SS, 0), hi), 0).r != id0
-                || texelFetch(t_id, min(b + ivec2(0, SS), hi), 0).r != id0;
+    acc += sample_color(r, g, bl, ids, 3);
+    acc += sample_color(r, g, bl, ids, 2);
+    acc += sample_color(r, g, bl, ids, 0);
+    acc += sample_color(r, g, bl, ids, 1);
     vec3 c = acc / float(SS * SS);
     f_color = vec4(outline_on == 1 && edge ? outline_color : c, 1.0);
 }
@@ -234,6 +243,8 @@ class _GL:
         self.post_vao = self.ctx.vertex_array(self.post, [])
         self.targets: OrderedDict[tuple[int, int], tuple] = OrderedDict()
         self.renderer = self.ctx.info.get("GL_RENDERER", "unknown")
+        self.flush = _gl_flush()
+        self.pending: PendingImage | None = None  # the picture the targets hold, unread
 
     def target(self, w: int, h: int) -> tuple:
         """(scene fbo, colour tex, id tex, depth, output fbo, output rb) for w x h pixels."""
@@ -300,16 +311,50 @@ def _depth_range(camera: Camera, verts: np.ndarray) -> tuple[float, float]:
     return hi + pad, lo - pad
 
 
-def _render_gl(
+def _gl_flush() -> Callable[[], None]:
+    """``glFlush`` of the thread's current context (through GLVND's dispatch library,
+    which routes it to moderngl's EGL context), or a no-op where it cannot be loaded
+    (the draw then runs when its picture is read, as it would without it)."""
+    for name in ("libOpenGL.so.0", "libGL.so.1"):
+        try:
+            return ctypes.CDLL(name).glFlush
+        except (OSError, AttributeError):
+            continue
+    return lambda: None
+
+
+class PendingImage:
+    """A picture being drawn: :meth:`image` waits for it (once; later calls return it).
+    On the GL path the drawing runs in the driver's threads (llvmpipe's) after
+    :func:`start_render` returns, while the caller does other work."""
+
+    def __init__(self, finish: Callable[[], PILImage.Image]) -> None:
+        self._finish: Callable[[], PILImage.Image] | None = finish
+        self._image: PILImage.Image | None = None
+
+    def image(self) -> PILImage.Image:
+        if self._finish is not None:
+            self._image, self._finish = self._finish(), None
+        assert self._image is not None
+        return self._image
+
+
+def _start_gl(
     gl: _GL,
     meshes: Sequence[Mesh],
     colors: np.ndarray,
     camera: Camera,
     background: RGB,
     outline: RGB | None,
-) -> PILImage.Image:
+) -> PendingImage:
+    """Submit the scene pass and flush it (the driver draws it in its threads); the
+    pending image's :meth:`~PendingImage.image` runs the resolve pass and reads the
+    picture. The render targets stay the pending picture's until then: a render started
+    before finishes it first."""
     from PIL import Image
 
+    if gl.pending is not None:
+        gl.pending.image()
     w, h = camera.width, camera.height
     fbo, color_tex, id_tex, _, out, _ = gl.target(w, h)
     fbo.use()
@@ -340,18 +385,28 @@ def _render_gl(
         gl.ctx.disable(gl.ctx.DEPTH_TEST)
         for obj in (vao, vbo, ibo):
             obj.release()
-    out.use()
-    gl.ctx.viewport = (0, 0, w, h)
-    color_tex.use(0)
-    id_tex.use(1)
-    post = gl.post
-    post["t_color"].value, post["t_id"].value = 0, 1
-    post["background"].value = tuple(np.asarray(background, dtype=float) / 255.0)
-    post["outline_on"].value = int(outline is not None and bool(meshes))
-    post["outline_color"].value = tuple(np.asarray(outline or (0, 0, 0), dtype=float) / 255.0)
-    gl.post_vao.render(vertices=3)
-    data = out.read(components=3, alignment=1)
-    return Image.frombytes("RGB", (w, h), data).transpose(Image.Transpose.FLIP_TOP_BOTTOM)
+    # Without the flush, the resolve pass below would wait for this pass where it is
+    # submitted: with it, llvmpipe draws while the caller goes on (a scene folder's
+    # json, GLB and viewer page are written meanwhile: 15 of 27 ms of the top view).
+    gl.flush()
+
+    def finish() -> PILImage.Image:
+        gl.pending = None
+        out.use()
+        gl.ctx.viewport = (0, 0, w, h)
+        color_tex.use(0)
+        id_tex.use(1)
+        post = gl.post
+        post["t_color"].value, post["t_id"].value = 0, 1
+        post["background"].value = tuple(np.asarray(background, dtype=float) / 255.0)
+        post["outline_on"].value = int(outline is not None and bool(meshes))
+        post["outline_color"].value = tuple(np.asarray(outline or (0, 0, 0), dtype=float) / 255.0)
+        gl.post_vao.render(vertices=3)
+        data = out.read(components=3, alignment=1)
+        return Image.frombytes("RGB", (w, h), data).transpose(Image.Transpose.FLIP_TOP_BOTTOM)
+
+    gl.pending = PendingImage(finish)
+    return gl.pending
 
 
 # -- the CPU path ---------------------------------------------------------------------------
@@ -403,7 +458,7 @@ def _render_cpu(
 
 
 # -- public rendering API -------------------------------------------------------------------
-def render_meshes(
+def start_render(
     meshes: Sequence[Mesh],
     colors: Sequence[RGB] | None = None,
     view: ViewLike = "three_quarter",
@@ -414,8 +469,9 @@ def render_meshes(
     outline: RGB | None = OUTLINE_COLOR,
     margin: float = DEFAULT_MARGIN,
     backend: Backend = "auto",
-) -> PILImage.Image:
-    """A picture of world-space ``meshes``, each in its own colour.
+) -> PendingImage:
+    """Start drawing a picture of world-space ``meshes``, each in its own colour: its
+    :meth:`~PendingImage.image` gives it (:func:`render_meshes` waits for it).
 
     meshes : world coordinates (z up); each is one outlined region (a part, an object).
     colors : one RGB (0..255) per mesh, or one for all; default a light wood colour.
@@ -448,10 +504,29 @@ def render_meshes(
     if backend != "cpu":
         gl = _gl()
         if gl is not None:
-            return _render_gl(gl, meshes, cols, camera, background, outline)
+            return _start_gl(gl, meshes, cols, camera, background, outline)
         if backend == "gl":
             raise RuntimeError(f"GL renderer unavailable: {_GL_ERROR}")
-    return _render_cpu(meshes, cols, camera, background, outline)
+    image = _render_cpu(meshes, cols, camera, background, outline)
+    return PendingImage(lambda: image)
+
+
+def render_meshes(
+    meshes: Sequence[Mesh],
+    colors: Sequence[RGB] | None = None,
+    view: ViewLike = "three_quarter",
+    size: int | tuple[int, int] = 256,
+    background: RGB = (255, 255, 255),
+    bounds: np.ndarray | None = None,
+    camera: Camera | None = None,
+    outline: RGB | None = OUTLINE_COLOR,
+    margin: float = DEFAULT_MARGIN,
+    backend: Backend = "auto",
+) -> PILImage.Image:
+    """A picture of world-space ``meshes``: :func:`start_render`'s, waited for."""
+    return start_render(
+        meshes, colors, view, size, background, bounds, camera, outline, margin, backend
+    ).image()
 
 
 # -- labelled grids -------------------------------------------------------------------------

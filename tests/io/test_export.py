@@ -52,6 +52,22 @@ def test_folder_has_all_three_and_scene_json_reads_back(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s0"]
 
 
+def test_folder_files_are_those_each_format_makes_on_its_own(tmp_path):
+    """The folder draws its GLB, viewer page and top view from one set of scene meshes
+    (the page embeds the GLB made once; the top view is drawn while the rest is
+    written): each file holds what its format's function gives on its own."""
+    from pair2scene.io.bev import bev_png
+    from pair2scene.io.glb import glb_bytes
+    from pair2scene.io.viewer import scene_html
+
+    scene, assets = small_scene()
+    folder = write_scene_folder(tmp_path / "s0", scene, assets)
+    assert (folder / "scene.glb").read_bytes() == glb_bytes(scene, assets)
+    assert (folder / "bev.png").read_bytes() == bev_png(scene, assets)
+    page = scene_html(scene, assets, back_link="../index.html")
+    assert (folder / "scene.html").read_bytes() == page
+
+
 def test_glb_nodes_are_object_ids_with_floor_and_walls(tmp_path):
     trimesh = pytest.importorskip("trimesh")
     scene, assets = small_scene()

@@ -13,6 +13,7 @@ near its wall keeps its mesh in the view, where it is.
 from __future__ import annotations
 
 import io
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -22,15 +23,17 @@ from pair2scene.assets.mesh import Asset
 from pair2scene.curation.wall_objects import MOUNT_ANGLE_DEG, MOUNT_GAP_M, hung_on
 from pair2scene.io.scene_meshes import (
     WALL_THICKNESS_M,
-    object_meshes,
+    SceneMeshes,
     room_color,
-    room_meshes,
     semantic_color,
 )
 from pair2scene.scene.model import Room, Scene, SceneObject
 from pair2scene.scene.walls import Wall, face_contacts, walls_of
 
 if TYPE_CHECKING:
+    from PIL import Image
+
+    from pair2scene.assets.mesh import Mesh
     from pair2scene.render import Camera
 
 BEV_SIZE = 768
@@ -100,23 +103,55 @@ def bev_camera(room: Room, size: int = BEV_SIZE) -> Camera:
     return fit_camera("top", corners, size)
 
 
-def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE):
-    """Top view (PIL image): floor, walls, objects in semantic colours, wall objects as
-    marks along their walls, and a legend."""
-    from PIL import Image, ImageDraw
+def start_bev(
+    scene: Scene,
+    assets: dict[str, Asset],
+    size: int = BEV_SIZE,
+    meshes: SceneMeshes | None = None,
+) -> Callable[[], Image.Image]:
+    """Start drawing :func:`bev_image` (the driver draws in its threads while the caller
+    goes on); the function returned waits for it and adds the marks and legend."""
+    from pair2scene.render import start_render
 
-    from pair2scene.render import caption_font, render_meshes
-
-    walls = room_meshes(scene.room)
+    meshes = meshes or SceneMeshes.of(scene, assets)
+    walls = meshes.room
     marks = wall_marks(scene)
     marked = {m.object_id for m in marks}
-    objs = [(oid, c, m) for oid, c, m in object_meshes(scene, assets) if oid not in marked]
+    objs = [(oid, c, m) for oid, c, m in meshes.objects if oid not in marked]
     # Draw low objects last so what rests on furniture shows on top of it in the view.
-    meshes = [m for _, m in walls] + [m for _, _, m in objs]
+    drawn_meshes = [m for _, m in walls] + [m for _, _, m in objs]
     colors = [room_color(n, top_view=True) for n, _ in walls]
     colors += [semantic_color(c) for _, c, _ in objs]
     camera = bev_camera(scene.room, size)
-    view = render_meshes(meshes, colors, camera=camera)
+    pending = start_render(drawn_meshes, colors, camera=camera)
+    return lambda: _finish_bev(scene, pending.image(), camera, marks, objs, size)
+
+
+def bev_image(
+    scene: Scene,
+    assets: dict[str, Asset],
+    size: int = BEV_SIZE,
+    meshes: SceneMeshes | None = None,
+) -> Image.Image:
+    """Top view (PIL image): floor, walls, objects in semantic colours, wall objects as
+    marks along their walls, and a legend. ``meshes``: the scene's meshes when the caller
+    has them already."""
+    return start_bev(scene, assets, size, meshes)()
+
+
+def _finish_bev(
+    scene: Scene,
+    view: Image.Image,
+    camera: Camera,
+    marks: list[WallMark],
+    objs: list[tuple[str, str, Mesh]],
+    size: int,
+) -> Image.Image:
+    """The drawn room ``view`` with the wall marks over it and the legend beside it."""
+    from PIL import Image, ImageDraw
+
+    from pair2scene.render import caption_font
+
     draw = ImageDraw.Draw(view)
     for mark in marks:
         quad = mark.quad(WALL_MARK_PX * camera.pixel_m)
@@ -149,8 +184,13 @@ def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE):
     return out
 
 
-def bev_png(scene: Scene, assets: dict[str, Asset]) -> bytes:
+def bev_png(scene: Scene, assets: dict[str, Asset], meshes: SceneMeshes | None = None) -> bytes:
     """:func:`bev_image` as PNG bytes."""
+    return png_bytes(bev_image(scene, assets, meshes=meshes))
+
+
+def png_bytes(image: Image.Image) -> bytes:
+    """A top view as the bytes of ``bev.png``."""
     buf = io.BytesIO()
-    bev_image(scene, assets).save(buf, format="PNG", optimize=False)
+    image.save(buf, format="PNG", optimize=False)
     return buf.getvalue()

@@ -1,11 +1,11 @@
 """Writing a placed scene: one exporter per file, one table from file name to exporter,
 and the scene folder that holds them.
 
-Each exporter is a plain ``export(scene, assets) -> bytes`` over the shared scene
-description (:mod:`pair2scene.io.scene_meshes`); formats never use each other's
-internals. :func:`write_scene_folder` writes everything into a temporary folder beside
-the target and renames it into place, so an interrupted run never leaves a half-written
-scene folder.
+Each exporter writes from a :class:`SceneSources`: the scene, its assets and the shared
+scene description (:mod:`pair2scene.io.scene_meshes`) worked out once for all of them
+(the GLB too, which the viewer page embeds); formats never use each other's internals.
+:func:`write_scene_folder` writes everything into a temporary folder beside the target
+and renames it into place, so an interrupted run never leaves a half-written scene folder.
 
 The temporary folders are hidden: ``.<id>.<random>`` (the new files) and
 ``.<id>.old.<random>`` (a folder being replaced, as ``x`` inside). Every reader of an
@@ -25,7 +25,9 @@ import shutil
 import stat
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pair2scene.assets.mesh import Asset
 from pair2scene.errors import UserError
@@ -33,7 +35,11 @@ from pair2scene.io.atomic import atomic_write_bytes, is_temporary, replace_folde
 from pair2scene.io.scene_json import dumps_scene
 from pair2scene.scene.model import Scene
 
-Exporter = Callable[[Scene, "dict[str, Asset]"], bytes]
+if TYPE_CHECKING:
+    from PIL import Image as PILImage
+
+    from pair2scene.io.scene_meshes import SceneMeshes
+
 DEFAULT_FORMATS = ("json", "glb", "png", "html")
 """What a scene folder holds unless asked otherwise (:attr:`ExportConfig.formats`)."""
 
@@ -78,64 +84,90 @@ class ExportConfig:
         return tuple(f for f in FORMATS if f in names or f == "json")
 
 
+class SceneSources:
+    """What a scene folder's formats are written from: the scene, its assets, which
+    bodies the simulator formats leave free, and what several formats draw on (the
+    scene's meshes: the GLB and the top view; the GLB: scene.glb and the viewer page),
+    each worked out once, when a format first asks."""
+
+    def __init__(self, scene: Scene, assets: dict[str, Asset], dynamic: str = "small") -> None:
+        self.scene, self.assets, self.dynamic = scene, assets, dynamic
+        self._top_view: Callable[[], PILImage.Image] | None = None
+
+    @cached_property
+    def meshes(self) -> SceneMeshes:
+        from pair2scene.io.scene_meshes import SceneMeshes
+
+        return SceneMeshes.of(self.scene, self.assets)
+
+    def start_top_view(self) -> None:
+        """Start drawing the top view: the renderer draws in its own threads while the
+        other formats are written (:meth:`top_view` waits for it)."""
+        from pair2scene.io.bev import start_bev
+
+        if self._top_view is None:
+            self._top_view = start_bev(self.scene, self.assets, meshes=self.meshes)
+
+    def top_view(self) -> bytes:
+        """bev.png's bytes."""
+        from pair2scene.io.bev import png_bytes
+
+        self.start_top_view()
+        assert self._top_view is not None
+        return png_bytes(self._top_view())
+
+    @cached_property
+    def glb(self) -> bytes:
+        from pair2scene.io.glb import glb_bytes  # (writers load when used: the CLI starts fast)
+
+        return glb_bytes(self.scene, self.assets, self.meshes)
+
+
 @dataclass(frozen=True)
 class Format:
     """One format of a scene folder: the file or folder it makes and how."""
 
     entry: str
     """Its name in the scene folder."""
-    write: Callable[[Path, Scene, dict[str, Asset], str], object]
-    """write(path of the entry, scene, assets, dynamic)."""
+    write: Callable[[Path, SceneSources], object]
+    """write(path of the entry, what it is written from)."""
     folder: bool = False
     """The entry is a folder (its writer makes it whole, or not at all)."""
 
 
-def _bytes_format(entry: str, export: Exporter) -> Format:
-    return Format(
-        entry, lambda path, scene, assets, _: atomic_write_bytes(path, export(scene, assets))
-    )
+def _bytes_format(entry: str, export: Callable[[SceneSources], bytes]) -> Format:
+    return Format(entry, lambda path, src: atomic_write_bytes(path, export(src)))
 
 
-def _glb(scene: Scene, assets: dict[str, Asset]) -> bytes:
-    from pair2scene.io.glb import glb_bytes  # (the writers load when used: the CLI starts fast)
-
-    return glb_bytes(scene, assets)
-
-
-def _bev(scene: Scene, assets: dict[str, Asset]) -> bytes:
-    from pair2scene.io.bev import bev_png
-
-    return bev_png(scene, assets)
-
-
-def _html(path: Path, scene: Scene, assets: dict[str, Asset], _: str) -> None:
+def _html(path: Path, src: SceneSources) -> None:
     from pair2scene.io.viewer import scene_html
 
-    atomic_write_bytes(path, scene_html(scene, assets, back_link=f"../{INDEX_HTML}"))
+    page = scene_html(src.scene, src.assets, back_link=f"../{INDEX_HTML}", glb=src.glb)
+    atomic_write_bytes(path, page)
 
 
-def _mjcf(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+def _mjcf(path: Path, src: SceneSources) -> None:
     from pair2scene.io.mjcf import write_mjcf
 
-    write_mjcf(scene, assets, path, dynamic)
+    write_mjcf(src.scene, src.assets, path, src.dynamic)
 
 
-def _usd(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+def _usd(path: Path, src: SceneSources) -> None:
     from pair2scene.io.usd import write_usd
 
-    write_usd(scene, assets, path, dynamic)
+    write_usd(src.scene, src.assets, path, src.dynamic)
 
 
-def _urdf(path: Path, scene: Scene, assets: dict[str, Asset], dynamic: str) -> None:
+def _urdf(path: Path, src: SceneSources) -> None:
     from pair2scene.io.urdf import write_urdf
 
-    write_urdf(scene, assets, path, dynamic)
+    write_urdf(src.scene, src.assets, path, src.dynamic)
 
 
 FORMATS: dict[str, Format] = {
-    "json": _bytes_format("scene.json", lambda scene, _: dumps_scene(scene).encode("utf-8")),
-    "glb": _bytes_format("scene.glb", lambda scene, assets: _glb(scene, assets)),
-    "png": _bytes_format("bev.png", lambda scene, assets: _bev(scene, assets)),
+    "json": _bytes_format("scene.json", lambda src: dumps_scene(src.scene).encode("utf-8")),
+    "glb": _bytes_format("scene.glb", lambda src: src.glb),
+    "png": _bytes_format("bev.png", lambda src: src.top_view()),
     "html": Format("scene.html", _html),
     "mjcf": Format("mjcf", _mjcf, folder=True),
     "usd": Format("scene.usdc", _usd),
@@ -171,10 +203,16 @@ def write_scene_folder(
     mode a plain mkdir gives (``0o777`` less the umask), its files what a plain open
     gives. ``dynamic``: the free bodies of the simulator formats."""
 
+    src = SceneSources(scene, assets, dynamic)
+
     def fill(tmp: Path) -> None:
-        for name in dict.fromkeys(["json", *formats]):
+        names = list(dict.fromkeys(["json", *formats]))
+        if "png" in names:  # drawn while the others are written; written last
+            src.start_top_view()
+            names.append(names.pop(names.index("png")))
+        for name in names:
             form = FORMATS[name]
-            form.write(tmp / form.entry, scene, assets, dynamic)
+            form.write(tmp / form.entry, src)
 
     return replace_folder(folder, fill)
 
@@ -257,10 +295,10 @@ def export_scene(
     scene = read_scene(path)
     folder = Path(out) if out is not None else path.parent
     folder.mkdir(parents=True, exist_ok=True)
-    assets = keep_assets(scene)
+    src = SceneSources(scene, keep_assets(scene), dynamic)
     for name in formats:
         if name == "json" and out is None:
             continue  # it is the source
         form = FORMATS[name]
-        form.write(folder / form.entry, scene, assets, dynamic)
+        form.write(folder / form.entry, src)
     return folder

@@ -24,12 +24,7 @@ import struct
 import numpy as np
 
 from pair2scene.assets.mesh import Asset, Mesh
-from pair2scene.io.scene_meshes import (
-    object_meshes,
-    room_color,
-    room_meshes,
-    semantic_color,
-)
+from pair2scene.io.scene_meshes import SceneMeshes, room_color, semantic_color
 from pair2scene.scene.model import Scene
 
 ROOT_NODE = "pair2scene"
@@ -43,10 +38,12 @@ _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
 _TRIANGLES = 4
 
 
-def glb_bytes(scene: Scene, assets: dict[str, Asset]) -> bytes:
-    """The scene as a binary glTF: node name = object id; floor and walls included."""
-    pieces = [(name, mesh, room_color(name)) for name, mesh in room_meshes(scene.room)]
-    pieces += [(oid, mesh, semantic_color(cat)) for oid, cat, mesh in object_meshes(scene, assets)]
+def glb_bytes(scene: Scene, assets: dict[str, Asset], meshes: SceneMeshes | None = None) -> bytes:
+    """The scene as a binary glTF: node name = object id; floor and walls included.
+    ``meshes``: the scene's meshes when the caller has them already."""
+    meshes = meshes or SceneMeshes.of(scene, assets)
+    pieces = [(name, mesh, room_color(name)) for name, mesh in meshes.room]
+    pieces += [(oid, mesh, semantic_color(cat)) for oid, cat, mesh in meshes.objects]
     doc = _Gltf()
     nodes = [doc.node(name, mesh, rgb) for name, mesh, rgb in pieces]
     root = {"name": ROOT_NODE, "rotation": Z_UP_TO_Y_UP, "children": list(range(1, len(nodes) + 1))}

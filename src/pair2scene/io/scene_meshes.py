@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import colorsys
 import zlib
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -68,6 +69,20 @@ def object_meshes(scene: Scene, assets: dict) -> list[tuple[str, str, Mesh]]:
         if asset is not None:
             out.append((o.id, o.category, asset.mesh.transformed(o.box.rotation, o.box.center)))
     return out
+
+
+@dataclass(frozen=True)
+class SceneMeshes:
+    """:func:`room_meshes` and :func:`object_meshes` of one scene, worked out once for
+    every format of a scene folder that draws them (the GLB, the viewer page's GLB, the
+    top view)."""
+
+    room: list[tuple[str, Mesh]]
+    objects: list[tuple[str, str, Mesh]]
+
+    @classmethod
+    def of(cls, scene: Scene, assets: dict) -> SceneMeshes:
+        return cls(room_meshes(scene.room), object_meshes(scene, assets))
 
 
 def floor_slab(polygon: np.ndarray, grow: float) -> Mesh:

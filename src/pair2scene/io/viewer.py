@@ -121,10 +121,17 @@ def page_html(glb: bytes, info: dict, back_link: str | None = None) -> bytes:
     return page.encode("utf-8")
 
 
-def scene_html(scene: Scene, assets: dict[str, Asset], back_link: str | None = None) -> bytes:
-    """The self-contained viewer page of ``scene`` (its :func:`glb_bytes` embedded).
-    ``back_link``: a relative link shown as "all scenes" (e.g. ``../index.html``)."""
-    return page_html(glb_bytes(scene, assets), scene_info(scene), back_link)
+def scene_html(
+    scene: Scene,
+    assets: dict[str, Asset],
+    back_link: str | None = None,
+    glb: bytes | None = None,
+) -> bytes:
+    """The self-contained viewer page of ``scene`` (its :func:`glb_bytes` embedded: ``glb``
+    when the caller has them already). ``back_link``: a relative link shown as "all
+    scenes" (e.g. ``../index.html``)."""
+    glb = glb_bytes(scene, assets) if glb is None else glb
+    return page_html(glb, scene_info(scene), back_link)
 
 
 def write_viewer(
