@@ -90,6 +90,30 @@ def test_pose_rotation_is_applied():
     assert world.colliding(lifted, ["bar"]) == []
 
 
+def test_a_shape_moved_after_a_test_is_tested_where_it_now_stands():
+    """Each part's fcl object is built at its first narrow-phase test and posed when a
+    test asks for it: a shape tested, moved away, moved back and turned is tested where
+    it stands each time, as a shape built anew there is."""
+    world = MeshWorld()
+    table = generate("dining_table", [1.2, 0.8, 0.75], 0)
+    world.add("table", posed(table, [0, 0, 0.375]))
+    mug = generate("mug", [0.1, 0.1, 0.1], 0)
+    moving = posed(mug, [0, 0, 0.76])
+    poses = [
+        ([0, 0, 0.76], None, ["table"]),  # sunk into the top
+        ([3, 0, 0.76], None, []),  # away
+        ([0.3, 0.2, 0.76], rot_z(0.7), ["table"]),  # back in, turned
+        ([0.3, 0.2, 0.80], rot_z(0.7), []),  # resting on the top
+    ]
+    for center, rotation, expected in poses:
+        moving.set_pose(np.eye(3) if rotation is None else rotation, np.asarray(center, float))
+        assert world.colliding(moving, ["table"]) == expected
+        assert world.colliding(posed(mug, center, rotation), ["table"]) == expected
+        assert world.penetration(moving, world.shapes["table"]) == pytest.approx(
+            world.penetration(posed(mug, center, rotation), world.shapes["table"])
+        )
+
+
 def test_a_growing_box_set_holds_the_rows_of_one_made_at_once():
     """Boxes added one at a time (past the first capacity) give the same arrays, bit for
     bit, as the set made of them all at once; a snapshot keeps what it held."""

@@ -277,30 +277,46 @@ class Shape:
     """The fcl geometry of one asset (one convex object per part), posed as a whole."""
 
     def __init__(self, asset: Asset) -> None:
-        fcl = _fcl()
+        _fcl()  # (the one-line error without python-fcl, on construction as before)
         self.asset = asset
-        self.objects = [
-            fcl.CollisionObject(_convex_geometry(fcl, p.mesh.vertices, p.mesh.faces))
-            for p in asset.parts
-        ]
         counts = [len(p.mesh.vertices) for p in asset.parts]
         self._vertices = np.concatenate([p.mesh.vertices for p in asset.parts]) if counts else None
         self._starts = np.cumsum([0, *counts[:-1]])
         self.rotation, self.translation = np.eye(3), np.zeros(3)
-        self._outlines: list[np.ndarray | None] = [None] * len(self.objects)
+        # Each part's fcl object is built when a narrow-phase test first needs it (most
+        # parts never meet another object's bounds); posed when asked for after a move.
+        self._objects: list = [None] * len(asset.parts)
+        self._transform = None  # this pose's fcl transform, made when first needed
+        self._posed_objects: set[int] = set()  # parts whose fcl object has this pose
+        self._outlines: list[np.ndarray | None] = [None] * len(asset.parts)
         self._posed: dict[int, np.ndarray] = {}  # this pose's world footprints, by part
         self._normals: dict[int, np.ndarray] = {}  # their edge normals, by part
         self._bounds: np.ndarray | None = None  # this pose's part bounds
 
     def set_pose(self, rotation: np.ndarray, translation: np.ndarray) -> None:
         """Place the asset's local frame: world = rotation @ local + translation."""
-        fcl = _fcl()
         self.rotation = np.asarray(rotation, float)
         self.translation = np.asarray(translation, float)
         self._posed, self._normals, self._bounds = {}, {}, None
-        tf = fcl.Transform(self.rotation, self.translation)
-        for o in self.objects:
-            o.setTransform(tf)
+        self._transform = None
+        self._posed_objects = set()
+
+    def fcl_object(self, part: int):
+        """The fcl collision object of one part (its convex hull, as fcl takes a mesh), in
+        this pose."""
+        fcl = _fcl()
+        obj = self._objects[part]
+        if obj is None:
+            mesh = self.asset.parts[part].mesh
+            obj = self._objects[part] = fcl.CollisionObject(
+                _convex_geometry(fcl, mesh.vertices, mesh.faces)
+            )
+        if part not in self._posed_objects:
+            if self._transform is None:
+                self._transform = fcl.Transform(self.rotation, self.translation)
+            obj.setTransform(self._transform)
+            self._posed_objects.add(part)
+        return obj
 
     def part_bounds(self) -> np.ndarray:
         """(P, 2, 3) world min and max corners of each part in this pose."""
@@ -407,7 +423,7 @@ class MeshWorld:
         deepest = 0.0
         for i, j in zip(*_near_parts(a, b)):
             result = fcl.CollisionResult()
-            if fcl.collide(a.objects[i], b.objects[j], request, result):
+            if fcl.collide(a.fcl_object(i), b.fcl_object(j), request, result):
                 depth = max((c.penetration_depth for c in result.contacts), default=0.0)
                 if tight and depth > deepest:
                     depth = min(depth, face_axis_depth(a, i, b, j))
@@ -468,7 +484,7 @@ class MeshWorld:
         deep = []
         for i, j in zip(*_near_parts(candidate, other)):
             result = fcl.CollisionResult()
-            if fcl.collide(candidate.objects[i], other.objects[j], request, result) and any(
+            if fcl.collide(candidate.fcl_object(i), other.fcl_object(j), request, result) and any(
                 c.penetration_depth > touch for c in result.contacts
             ):
                 deep.append((int(i), int(j)))

@@ -47,11 +47,13 @@ class Generator:
 
 REGISTRY: dict[str, Generator] = {}
 
-BUILT_CACHE_ENTRIES = 1024
+BUILT_CACHE_ENTRIES = 2048
 """Assets :func:`generate` keeps, by (category, size, seed, style, support heights):
-more than a scene of the largest size holds, so rebuilding a scene (a resumed run, a
-kept object, curtains cut to a window tried twice) reuses its assets and everything
-computed from them (support surfaces, point clouds); ~40 kB an asset."""
+more than the asset library holds (1,552 assets) and a scene of the largest size, so a
+long run keeps every library asset it met (with 1,024 the library's assets were built
+over and over) and rebuilding a scene (a resumed run, a kept object, curtains cut to a
+window tried twice) reuses its assets and everything computed from them (support
+surfaces, point clouds); ~40 kB an asset, 80 MB at most."""
 _BUILT: OrderedDict[tuple, Asset] = OrderedDict()
 
 
