@@ -511,22 +511,10 @@ def start_render(
     return PendingImage(lambda: image)
 
 
-def render_meshes(
-    meshes: Sequence[Mesh],
-    colors: Sequence[RGB] | None = None,
-    view: ViewLike = "three_quarter",
-    size: int | tuple[int, int] = 256,
-    background: RGB = (255, 255, 255),
-    bounds: np.ndarray | None = None,
-    camera: Camera | None = None,
-    outline: RGB | None = OUTLINE_COLOR,
-    margin: float = DEFAULT_MARGIN,
-    backend: Backend = "auto",
-) -> PILImage.Image:
-    """A picture of world-space ``meshes``: :func:`start_render`'s, waited for."""
-    return start_render(
-        meshes, colors, view, size, background, bounds, camera, outline, margin, backend
-    ).image()
+def render_meshes(*args, **kwargs) -> PILImage.Image:
+    """A picture of world-space meshes: :func:`start_render` of the same arguments,
+    waited for."""
+    return start_render(*args, **kwargs).image()
 
 
 # -- labelled grids -------------------------------------------------------------------------
