@@ -170,6 +170,41 @@ def test_a_toilet_roll_resting_on_a_surface_stands_on_its_end_and_reads_back_so(
     assert styles[on_spindle.id] == {0, 1}
 
 
+@pytest.mark.parametrize("library", [False, True])
+def test_a_television_stands_on_its_feet_on_furniture_and_hangs_on_its_bracket(library):
+    """On a stand a television is built on its pedestal or two feet (the wall-mounted
+    style, a panel with nothing under it, toppled off its stand in the simulation); on
+    a wall on its bracket (not a pedestal hanging on the wall). The library's assets
+    (:func:`library_assets`) hold both, and its seed alone rebuilds each."""
+    from pair2scene.assembly.keep import keep_assets
+    from pair2scene.assembly.place import AssemblyConfig, Placer, library_assets
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
+
+    h = Hierarchy("living_room")
+    stand = h.add("tv_stand", "floor")
+    on_stand = h.add("television", stand.id)
+    on_wall = h.add("television", "wall")
+    placer = Placer(_NoDraws(), config=AssemblyConfig(asset_library=library))
+    styles = {on_stand.id: set(), on_wall.id: set()}
+    room = Room("living_room", np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]), 2.6)
+    for seed in range(16):
+        assets = placer.assets_for(h.validate(), seed)
+        for oid in styles:
+            styles[oid].add(assets[oid].style)
+        tv = assets[on_wall.id]
+        ref = AssetRef("procedural", None, tv.style, tv.extra["seed"])
+        obj = SceneObject(on_wall.id, "television",
+                          OrientedBox.from_yaw([1, 0.1, 1.5], tv.size), ref, "wall:0")  # fmt: skip
+        back = keep_assets(Scene("s", room, [obj]))[on_wall.id]
+        np.testing.assert_array_equal(back.mesh.vertices, tv.mesh.vertices)
+    assert styles[on_stand.id] <= {0, 1} and styles[on_wall.id] == {2}
+    if not library:
+        assert styles[on_stand.id] == {0, 1}
+    built = [a.style for a in library_assets(placer.sizes) if a.category == "television"]
+    assert {0, 1} & set(built) and 2 in built
+
+
 def test_a_towel_over_a_vanity_is_shortened_to_hang_clear_of_it():
     """A rail 0.25 m above a counter: a 0.6 m towel would reach into it; it hangs
     shortened to end a little above the counter's top, touching nothing but its rail."""

@@ -61,3 +61,27 @@ def test_a_mounted_size_is_never_deeper_than_wide():
         bundled.draw(c, np.random.default_rng(s), mounted=True) for c in cats for s in range(40)
     ]
     assert all(d[0] >= d[1] for d in draws)
+
+
+def test_a_bat_rests_lying_on_a_face_of_its_round_parts():
+    """The data's bats stand on end (they lean in their simulator; ours toppled): drawn to
+    rest, a bat's size is laid down, longest along x and shortest up, and its round
+    parts lie on a face (two vertices at the lowest height), not an edge it rolls off."""
+    from pair2scene.assembly.place import library_assets
+    from pair2scene.assets.registry import generate
+
+    table = SizeTable.load()
+    assert (table.sizes["baseball_bat"][:, 2] > table.sizes["baseball_bat"][:, 0]).all()
+    rng = np.random.default_rng(0)
+    for _ in range(8):
+        size = table.draw("baseball_bat", rng)
+        assert size[0] > 4 * max(size[1], size[2])  # (the two thin sides within jitter)
+        bat = generate("baseball_bat", size, int(rng.integers(2**31)))
+        for part in bat.parts:
+            if part.name in ("barrel", "handle", "grip", "end_cap"):
+                z = part.mesh.vertices[:, 2]
+                assert (z < z.min() + 1e-6).sum() >= 2, part.name
+    sofa = table.draw("sofa", rng, jitter=0.0)  # any other category as the data has it
+    assert any(np.array_equal(sofa, row) for row in table.sizes["sofa"])
+    bats = [a for a in library_assets(table) if a.category == "baseball_bat"]
+    assert bats and all(a.size[0] > a.size[2] for a in bats)

@@ -76,7 +76,7 @@ from pair2scene.assembly.rest import (
     on_floor,
     rest_on_surfaces,
 )
-from pair2scene.assembly.sizes import JITTER, SizeTable, wider_than_deep
+from pair2scene.assembly.sizes import JITTER, SizeTable, resting_sizes, wider_than_deep
 from pair2scene.assembly.walls import (
     CORNER_GAP_M,
     WallRules,
@@ -148,15 +148,24 @@ its draws are a stream of their own, apart from the asset draws seeded by
 SPOT_RETRIES = 8
 """Candidates rejected only for standing off their spot on the support that are moved
 onto it and tried again when no candidate passed (:attr:`AssemblyConfig.spots`)."""
-RESTING_STYLE = {"toilet_paper": 0}
-"""The style a category is built in when it rests on a surface (or the floor), where its
-other styles are made for a holder: a toilet roll stands on its end. Lying along its
-axis, as on a holder's spindle, with its sheet hanging, it rolled off the cisterns and
-counters it was put on: in 30 bathrooms, 9 of 25 rolls moved 3-35 cm in ``evaluate``'s
-2 s simulation."""
+RESTING_STYLES: dict[str, frozenset[int]] = {
+    "toilet_paper": frozenset({0}),
+    "television": frozenset({0, 1}),
+}
+"""The styles a category is built in when it rests on a surface (or the floor), where its
+other styles are made for a holder or a wall. A toilet roll stands on its end: lying along
+its axis, as on a holder's spindle, with its sheet hanging, it rolled off the cisterns and
+counters it was put on (in 30 bathrooms, 9 of 25 rolls moved 3-35 cm in ``evaluate``'s 2 s
+simulation). A television stands on its pedestal or two feet: the wall-mounted one, a
+panel with a bracket behind it and nothing under it, toppled off its stand (4 of 5 such in
+30 living rooms moved 4-15 cm)."""
+MOUNTED_STYLES: dict[str, frozenset[int]] = {"television": frozenset({2})}
+"""The styles a category is built in when it hangs on a wall: a television on its bracket
+(a pedestal or two feet under a panel on a wall was 16 of 21 wall televisions in 60
+rooms)."""
 STYLE_TRIES = 32
-"""Seeds drawn at most for an asset of its category's :data:`RESTING_STYLE` (two styles:
-one in four billion draws misses it)."""
+"""Seeds drawn at most for an asset in one of its category's :data:`RESTING_STYLES` or
+:data:`MOUNTED_STYLES` (one style of three: about one in 400,000 draws misses it)."""
 HALF_RETRIES = 32
 """Candidates rejected only for standing by the other half of their functional anchor
 (``wrong_half``) that are tried again, either half taken, when no candidate passed: the
@@ -617,8 +626,8 @@ def seated_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
 def library_assets(sizes: SizeTable, surfaces: bool = False) -> Iterator[Asset]:
     """The asset library's assets (:attr:`AssemblyConfig.asset_library`), as
     :meth:`Placer.assets_for` builds them: each category's observed sizes, standing and
-    mounted (from its wall sizes where the table has them, turned wider than deep), and a
-    category of :data:`RESTING_STYLE` in its resting style too. What the placer builds
+    mounted (from its wall sizes where the table has them, turned wider than deep), and
+    each in the style it is placed in too (:func:`placed_style`). What the placer builds
     besides (a towel cut to its rail) is met, and encoded, as generation goes.
     ``surfaces``: work out each asset's support surfaces as it is built, which keeps them
     in the surface store (:mod:`~pair2scene.assets.surface_store`)."""
@@ -632,13 +641,29 @@ def library_assets(sizes: SizeTable, surfaces: bool = False) -> Iterator[Asset]:
     for key in sorted(sizes.sizes):
         category, mounted = split_member(key)
         rows = sizes.sizes[key]
-        if mounted:
-            rows = wider_than_deep(rows)
+        rows = wider_than_deep(rows) if mounted else resting_sizes(category, rows)
         for size in rows:
             asset = generate(category, size, library_seed(category, size))
             yield built(asset)
-            if RESTING_STYLE.get(category, asset.style) != asset.style:
-                yield built(Placer._resting_style(asset, size, library_seed))
+            placed = placed_style(asset, size, library_seed, mounted)
+            if placed is not asset:
+                yield built(placed)
+
+
+def placed_style(asset: Asset, size: np.ndarray, mesh_seed, mounted: bool) -> Asset:
+    """``asset``, or one of its category and ``size`` in a style it is built in where it
+    is placed (:data:`MOUNTED_STYLES` on a wall, else :data:`RESTING_STYLES`) when its
+    category has such styles and ``asset`` is in none of them: built with further seeds,
+    ``mesh_seed(category, size, k)`` for k = 1, 2, ... (a seed builds the whole asset, its
+    style too, so scene.json's seed rebuilds it exactly; :data:`STYLE_TRIES` at most)."""
+    from pair2scene.assets.registry import generate
+
+    want = (MOUNTED_STYLES if mounted else RESTING_STYLES).get(asset.category)
+    for k in range(1, STYLE_TRIES + 1):
+        if want is None or asset.style in want:
+            break
+        asset = generate(asset.category, size, mesh_seed(asset.category, size, k))
+    return asset
 
 
 def door_boxes(room: Room, depth: float, height: float) -> list[OrientedBox]:
@@ -775,7 +800,7 @@ class Placer:
                 # scene rebuilds exactly these shapes (assembly.keep.keep_assets).
                 asset = generate(node.category, size, mesh_seed(node.category, size))
                 if held is None or held.category not in HANGER_CATEGORIES:
-                    asset = self._resting_style(asset, size, mesh_seed)
+                    asset = placed_style(asset, size, mesh_seed, on_wall(item.support))
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:
                     break  # (one drawn wider than its support can carry: as narrow as any)
             assets[node.id] = asset
@@ -785,21 +810,6 @@ class Placer:
                 models[node.category] = asset if share > 0 and one.random() < share else None
         return assets
 
-    @staticmethod
-    def _resting_style(asset: Asset, size: np.ndarray, mesh_seed) -> Asset:
-        """``asset``, or one of its category and ``size`` in the category's
-        :data:`RESTING_STYLE` when it has one and ``asset`` is not: built with further
-        seeds, ``mesh_seed(category, size, k)`` for k = 1, 2, ... (a seed builds the whole
-        asset, its style too, so scene.json's seed rebuilds it exactly;
-        :data:`STYLE_TRIES` at most)."""
-        from pair2scene.assets.registry import generate
-
-        want = RESTING_STYLE.get(asset.category)
-        for k in range(1, STYLE_TRIES + 1):
-            if want is None or asset.style == want:
-                break
-            asset = generate(asset.category, size, mesh_seed(asset.category, size, k))
-        return asset
 
     def place(
         self,

@@ -49,7 +49,7 @@ REGISTRY: dict[str, Generator] = {}
 
 BUILT_CACHE_ENTRIES = 2048
 """Assets :func:`generate` keeps, by (category, size, seed, style, support heights):
-more than the asset library holds (1,552 assets) and a scene of the largest size, so a
+more than the asset library holds (1,569 assets) and a scene of the largest size, so a
 long run keeps every library asset it met (with 1,024 the library's assets were built
 over and over) and rebuilding a scene (a resumed run, a kept object, curtains cut to a
 window tried twice) reuses its assets and everything computed from them (support

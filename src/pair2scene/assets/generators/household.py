@@ -1997,6 +1997,10 @@ def baseball_bat(size, rng, style, support_heights):
                 ),
             )
         )
+    if size[2] <= max(size[0], size[1]):  # lying: a face of each round part down
+        # (ROUND_SEGMENTS puts a vertex at the bottom: on it a lying bat rolled 2 cm)
+        c, s = np.cos(np.pi / ROUND_SEGMENTS), np.sin(np.pi / ROUND_SEGMENTS)
+        parts = _pose(parts, np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]))
     return _pose(parts, rot)
 
 
