@@ -474,3 +474,22 @@ def test_decor_adapts_to_tall_boxes():
     assert len(_parts(branches, "branch")) >= 3
     low = generate("decor", TYPICAL_SIZES["decor"], rng=0, style=2)
     assert len(_parts(low, "pillar")) == 3
+
+
+@pytest.mark.parametrize("category", ["baseball_bat", "pen"])
+@pytest.mark.parametrize("style", [0, 1])
+def test_a_lying_round_object_rests_on_faces_and_a_standing_one_is_unturned(category, style):
+    """Lying, a bat's or a pen's round parts have a face down (their lowest vertices
+    span some width across the axis), not the edge they rolled off in the simulation;
+    standing on end (a tall box) they are built as before, unturned about their axis."""
+    for seed in range(3):
+        lying = generate(category, [0.15, 0.012, 0.011], seed, style=style)
+        low = lying.mesh.vertices[:, 2].min()
+        for part in lying.parts:
+            v = part.mesh.vertices  # lengthwise along x
+            if part.name in ("barrel", "cap", "end_cap") and v[:, 2].min() < low + 1e-4:
+                bottom = v[v[:, 2] < v[:, 2].min() + 1e-7]
+                assert np.ptp(bottom[:, 1]) > 1e-4, part.name  # a face across, not an edge
+        standing = generate(category, [0.012, 0.011, 0.15], seed, style=style)
+        xy = standing.mesh.vertices[:, :2]
+        assert np.isclose(np.abs(xy[:, 0]).max(), 0.006)  # a vertex on the box face

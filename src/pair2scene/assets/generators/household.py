@@ -200,6 +200,27 @@ def _long_frame(size: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _flat_frame(size)
 
 
+_HALF_SEGMENT = np.array(
+    [
+        [np.cos(np.pi / ROUND_SEGMENTS), 0.0, np.sin(np.pi / ROUND_SEGMENTS)],
+        [0.0, 1.0, 0.0],
+        [-np.sin(np.pi / ROUND_SEGMENTS), 0.0, np.cos(np.pi / ROUND_SEGMENTS)],
+    ]
+)
+"""Half a side of a ROUND_SEGMENTS part about canonical y (a lengthwise object's axis)."""
+
+
+def _face_down(parts: list[Part], size: np.ndarray) -> list[Part]:
+    """The parts of a lengthwise round object built along canonical y (a bat, a pen),
+    turned half a side about its axis when it lies (its box not tallest in z): a face of
+    each ROUND_SEGMENTS part down, where a vertex was (ROUND_SEGMENTS puts one on each
+    box face). On that edge lying bats and pens rolled 2-3 cm in ``evaluate``'s
+    simulation; the registry fits the turned parts to the box again."""
+    if size[2] > max(size[0], size[1]):
+        return parts
+    return _pose(parts, _HALF_SEGMENT)
+
+
 # -- displays: television, monitor, desktop computer, laptop, keyboard ------------------------
 def _display(
     x0: float,
@@ -1563,7 +1584,7 @@ def pen(size, rng, style, support_heights):
         Part("clip", box_between((-0.25 * r, clip_y[0], 0.8 * r), (0.25 * r, clip_y[1], 1.25 * r)))
     )
     lift = (0.0, 0.0, -t / 2 + r)
-    return _pose(_pose(parts, None, lift), rot)
+    return _pose(_pose(_face_down(parts, size), None, lift), rot)
 
 
 @register("pencil", variants=2)
@@ -1997,11 +2018,7 @@ def baseball_bat(size, rng, style, support_heights):
                 ),
             )
         )
-    if size[2] <= max(size[0], size[1]):  # lying: a face of each round part down
-        # (ROUND_SEGMENTS puts a vertex at the bottom: on it a lying bat rolled 2 cm)
-        c, s = np.cos(np.pi / ROUND_SEGMENTS), np.sin(np.pi / ROUND_SEGMENTS)
-        parts = _pose(parts, np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]))
-    return _pose(parts, rot)
+    return _pose(_face_down(parts, size), rot)
 
 
 @register("basketball", variants=2)
