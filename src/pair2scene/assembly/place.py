@@ -810,7 +810,6 @@ class Placer:
                 models[node.category] = asset if share > 0 and one.random() < share else None
         return assets
 
-
     def place(
         self,
         hierarchy: Hierarchy,
