@@ -138,34 +138,45 @@ def test_placement_hangs_a_towel_on_its_holder_touching_it_and_nothing_else():
     assert by[towel.id].box.bottom > 0.3
 
 
+def _placed_styles(hierarchy, library: bool, rebuilt: str, support: str) -> dict[str, set]:
+    """The styles the placer builds each object of ``hierarchy`` in over 16 scene seeds;
+    checks that the seed scene.json keeps rebuilds object ``rebuilt`` (on ``support``)
+    exactly, as ``keep_assets`` reads a scene back."""
+    from pair2scene.assembly.keep import keep_assets
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
+
+    placer = Placer(_NoDraws(), config=AssemblyConfig(asset_library=library))
+    room = Room(
+        hierarchy.room_type, np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]), 2.6
+    )
+    styles: dict[str, set] = {}
+    for seed in range(16):
+        assets = placer.assets_for(hierarchy.validate(), seed)
+        for oid, asset in assets.items():
+            styles.setdefault(oid, set()).add(asset.style)
+        kept = assets[rebuilt]
+        ref = AssetRef("procedural", None, kept.style, kept.extra["seed"])
+        obj = SceneObject(rebuilt, kept.category,
+                          OrientedBox.from_yaw([1, 1, 1], kept.size), ref, support)  # fmt: skip
+        back = keep_assets(Scene("s", room, [obj]))[rebuilt]
+        assert back.style == kept.style
+        np.testing.assert_array_equal(back.mesh.vertices, kept.mesh.vertices)
+    return styles
+
+
 def test_a_toilet_roll_resting_on_a_surface_stands_on_its_end_and_reads_back_so():
     """On a cistern or a counter a roll is built standing (style 0: lying, as on a
     spindle, it rolled off in the simulation); on its holder either style. Its seed alone
     rebuilds it (scene.json keeps the seed, read back by ``keep_assets``)."""
-    from pair2scene.assembly.keep import keep_assets
-    from pair2scene.assembly.place import AssemblyConfig, Placer
     from pair2scene.hierarchy.tree import Hierarchy
-    from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
 
     h = Hierarchy("bathroom")
     counter = h.add("counter_top", "floor")
     spindle = h.add("toilet_paper_hanger", "wall")
     on_counter = h.add("toilet_paper", counter.id)
     on_spindle = h.add("toilet_paper", spindle.id)
-    placer = Placer(_NoDraws(), config=AssemblyConfig(asset_library=False))  # (a mesh a roll)
-    styles = {on_counter.id: set(), on_spindle.id: set()}
-    room = Room("bathroom", np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]]), 2.6)
-    for seed in range(16):
-        assets = placer.assets_for(h.validate(), seed)
-        for oid in styles:
-            styles[oid].add(assets[oid].style)
-        roll = assets[on_counter.id]
-        ref = AssetRef("procedural", None, roll.style, roll.extra["seed"])
-        obj = SceneObject(on_counter.id, "toilet_paper",
-                          OrientedBox.from_yaw([1, 1, 1], roll.size), ref, counter.id)  # fmt: skip
-        back = keep_assets(Scene("s", room, [obj]))[on_counter.id]
-        assert back.style == roll.style
-        np.testing.assert_array_equal(back.mesh.vertices, roll.mesh.vertices)
+    styles = _placed_styles(h, False, on_counter.id, counter.id)  # (a mesh a roll)
     assert styles[on_counter.id] == {0}
     assert styles[on_spindle.id] == {0, 1}
 
@@ -176,32 +187,19 @@ def test_a_television_stands_on_its_feet_on_furniture_and_hangs_on_its_bracket(l
     style, a panel with nothing under it, toppled off its stand in the simulation); on
     a wall on its bracket (not a pedestal hanging on the wall). The library's assets
     (:func:`library_assets`) hold both, and its seed alone rebuilds each."""
-    from pair2scene.assembly.keep import keep_assets
-    from pair2scene.assembly.place import AssemblyConfig, Placer, library_assets
+    from pair2scene.assembly.place import library_assets
+    from pair2scene.assembly.sizes import SizeTable
     from pair2scene.hierarchy.tree import Hierarchy
-    from pair2scene.scene.model import AssetRef, Room, Scene, SceneObject
 
     h = Hierarchy("living_room")
     stand = h.add("tv_stand", "floor")
     on_stand = h.add("television", stand.id)
     on_wall = h.add("television", "wall")
-    placer = Placer(_NoDraws(), config=AssemblyConfig(asset_library=library))
-    styles = {on_stand.id: set(), on_wall.id: set()}
-    room = Room("living_room", np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]), 2.6)
-    for seed in range(16):
-        assets = placer.assets_for(h.validate(), seed)
-        for oid in styles:
-            styles[oid].add(assets[oid].style)
-        tv = assets[on_wall.id]
-        ref = AssetRef("procedural", None, tv.style, tv.extra["seed"])
-        obj = SceneObject(on_wall.id, "television",
-                          OrientedBox.from_yaw([1, 0.1, 1.5], tv.size), ref, "wall:0")  # fmt: skip
-        back = keep_assets(Scene("s", room, [obj]))[on_wall.id]
-        np.testing.assert_array_equal(back.mesh.vertices, tv.mesh.vertices)
+    styles = _placed_styles(h, library, on_wall.id, "wall:0")
     assert styles[on_stand.id] <= {0, 1} and styles[on_wall.id] == {2}
     if not library:
         assert styles[on_stand.id] == {0, 1}
-    built = [a.style for a in library_assets(placer.sizes) if a.category == "television"]
+    built = [a.style for a in library_assets(SizeTable.load()) if a.category == "television"]
     assert {0, 1} & set(built) and 2 in built
 
 
