@@ -301,3 +301,23 @@ def test_tall_and_flat_things():
         foil = _asset("aluminum_foil", style)
         if style == 0:
             assert np.ptp(_parts(foil, "roll").bounds[:, 0]) > 0.8 * foil.size[0]
+
+
+@pytest.mark.parametrize("style", [0, 1])
+def test_a_fork_rests_on_its_tines_and_the_end_of_its_handle(style):
+    """Its handle arches over the table and comes down at its end: the fork touches the
+    bottom of its box at both ends, so it rests where it is put (with the handle's end
+    raised to the box top it tipped over its head in the simulation)."""
+    for seed in range(4):
+        fork = generate("fork", [0.03, 0.21, 0.031], seed, style=style)
+        bottom = fork.mesh.vertices[:, 2].min()
+        ends = {}
+        for part in fork.parts:
+            v = part.mesh.vertices
+            if part.name.startswith("tine_") or part.name == "handle":
+                assert v[:, 2].min() == pytest.approx(bottom, abs=1e-6), part.name
+                ends[part.name[:4]] = v[:, 1]
+        assert ends["tine"].min() > 0.05 and ends["hand"].min() < -0.1  # the two ends
+        top = fork.mesh.vertices[:, 2].max()
+        arch = [p for p in fork.parts if p.name == "handle_arch"][0].mesh.vertices
+        assert arch[:, 2].max() == pytest.approx(top, abs=1e-6)  # highest in between
