@@ -321,3 +321,14 @@ def test_a_fork_rests_on_its_tines_and_the_end_of_its_handle(style):
         top = fork.mesh.vertices[:, 2].max()
         arch = [p for p in fork.parts if p.name == "handle_arch"][0].mesh.vertices
         assert arch[:, 2].max() == pytest.approx(top, abs=1e-6)  # highest in between
+
+
+def test_a_romaine_lettuce_lies_on_a_flat_underside():
+    """Lying on its side, a romaine head's outer leaves are pressed flat underneath: its
+    lowest vertices span a patch, not the points of round leaves it rolled on."""
+    for seed in range(4):
+        head = generate("lettuce", [0.13, 0.243, 0.13], seed, style=1)
+        v = head.mesh.vertices
+        bottom = v[v[:, 2] < v[:, 2].min() + 1e-6]
+        assert len(bottom) >= 6
+        assert np.ptp(bottom[:, 0]) > 0.02 and np.ptp(bottom[:, 1]) > 0.02

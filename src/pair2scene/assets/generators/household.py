@@ -31,6 +31,7 @@ from pair2scene.assets.generators.shapes import (
     ROD_SEGMENTS,
     ROUND_SEGMENTS,
     clip,
+    rest_flat,
 )
 from pair2scene.assets.mesh import (
     Mesh,
@@ -749,34 +750,14 @@ thickness is pressed flat (the rest of its lower half stretched to keep its box)
 pillow's own weight flattens it. A rigid pillow with a domed (or, a bolster, round)
 underside rocked 2-4 cm on a mattress in the stability simulation: 11 of 48 in 30
 bedrooms."""
-PRESSED_FLAT_M = 5e-4
-"""A part this thin or less once pressed is part of the flat underside, not a part."""
-
-
-def _rest_flat(parts: list[Part], ht: float) -> list[Part]:
-    """``parts`` with their lower halves pressed flat at -``ht`` (:data:`PILLOW_REST`):
-    every vertex below the seam moves to ``max(z, -PILLOW_REST ht) / PILLOW_REST``, and
-    each part becomes the convex hull of its moved vertices (so it stays convex). A part
-    pressed into the underside whole (a bolster's piping under its ends) is left out."""
-    out = []
-    for part in parts:
-        v = part.mesh.vertices
-        if v[:, 2].min() >= 0.0:
-            out.append(part)
-            continue
-        low = v[:, 2] < 0.0
-        z = np.where(low, np.maximum(v[:, 2], -PILLOW_REST * ht) / PILLOW_REST, v[:, 2])
-        if z.max() - z.min() > PRESSED_FLAT_M:
-            out.append(Part(part.name, hull(np.c_[v[:, :2], z])))
-    return out
 
 
 @register("pillow", variants=3)
 def pillow(size, rng, style, support_heights):
     """Pillow: a puffy rectangle with pointed corners and piping along its seam (0), a round
     tufted cushion with piping and a button (1), or a bolster roll with buttoned ends (2).
-    Lies flat on a pressed-flat underside (:data:`PILLOW_REST`), or stands facing +y when
-    size z > size y."""
+    Lies flat on a pressed-flat underside (:data:`PILLOW_REST`, :func:`rest_flat`), or
+    stands facing +y when size z > size y."""
     standing = size[2] > size[1]
     w, d, t = (size[0], size[2], size[1]) if standing else size
     a, b, ht = w / 2, d / 2, t / 2
@@ -811,7 +792,7 @@ def pillow(size, rng, style, support_heights):
             parts.append(
                 Part(f"button_{i}", _ell((sgn * (a - 0.3 * br), 0, 0), (0.3 * br, br, br * ht / b)))
             )
-    return _pose(parts, _STAND_FACE) if standing else _rest_flat(parts, ht)
+    return _pose(parts, _STAND_FACE) if standing else rest_flat(parts, ht, PILLOW_REST)
 
 
 @register("box", variants=2)

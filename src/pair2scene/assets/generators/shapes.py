@@ -500,3 +500,27 @@ def bar(
         segments,
         rotation=axis_frame(u),
     )
+
+
+PRESSED_FLAT_M = 5e-4
+"""A part this thin or less once pressed is part of the flat underside, not a part."""
+
+
+def rest_flat(parts: list[Part], ht: float, share: float) -> list[Part]:
+    """``parts`` (centred at z = 0, ``ht`` their half height) with their lower halves
+    pressed flat at -``ht``: every vertex below z = 0 moves to ``max(z, -share ht) /
+    share``, and each part becomes the convex hull of its moved vertices (so it stays
+    convex). What lay below ``share`` of the half height is pressed flat (a pillow under
+    its own weight, a lettuce's outer leaves), the rest of the lower half stretched to
+    keep the box. A part pressed into the underside whole is left out."""
+    out = []
+    for part in parts:
+        v = part.mesh.vertices
+        if v[:, 2].min() >= 0.0:
+            out.append(part)
+            continue
+        low = v[:, 2] < 0.0
+        z = np.where(low, np.maximum(v[:, 2], -share * ht) / share, v[:, 2])
+        if z.max() - z.min() > PRESSED_FLAT_M:
+            out.append(Part(part.name, hull(np.c_[v[:, :2], z])))
+    return out
