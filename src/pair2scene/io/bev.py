@@ -110,7 +110,8 @@ def start_bev(
     meshes: SceneMeshes | None = None,
 ) -> Callable[[], Image.Image]:
     """Start drawing :func:`bev_image` (the driver draws in its threads while the caller
-    goes on); the function returned waits for it and adds the marks and legend."""
+    goes on); the function returned waits for it and adds the marks and legend.
+    ``meshes``: the scene's meshes when the caller has them already."""
     from pair2scene.render import start_render
 
     meshes = meshes or SceneMeshes.of(scene, assets)
@@ -127,16 +128,10 @@ def start_bev(
     return lambda: _finish_bev(scene, pending.image(), camera, marks, objs, size)
 
 
-def bev_image(
-    scene: Scene,
-    assets: dict[str, Asset],
-    size: int = BEV_SIZE,
-    meshes: SceneMeshes | None = None,
-) -> Image.Image:
+def bev_image(scene: Scene, assets: dict[str, Asset], size: int = BEV_SIZE) -> Image.Image:
     """Top view (PIL image): floor, walls, objects in semantic colours, wall objects as
-    marks along their walls, and a legend. ``meshes``: the scene's meshes when the caller
-    has them already."""
-    return start_bev(scene, assets, size, meshes)()
+    marks along their walls, and a legend."""
+    return start_bev(scene, assets, size)()
 
 
 def _finish_bev(
@@ -184,9 +179,9 @@ def _finish_bev(
     return out
 
 
-def bev_png(scene: Scene, assets: dict[str, Asset], meshes: SceneMeshes | None = None) -> bytes:
+def bev_png(scene: Scene, assets: dict[str, Asset]) -> bytes:
     """:func:`bev_image` as PNG bytes."""
-    return png_bytes(bev_image(scene, assets, meshes=meshes))
+    return png_bytes(bev_image(scene, assets))
 
 
 def png_bytes(image: Image.Image) -> bytes:

@@ -201,16 +201,6 @@ def _long_frame(size: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _flat_frame(size)
 
 
-_HALF_SEGMENT = np.array(
-    [
-        [np.cos(np.pi / ROUND_SEGMENTS), 0.0, np.sin(np.pi / ROUND_SEGMENTS)],
-        [0.0, 1.0, 0.0],
-        [-np.sin(np.pi / ROUND_SEGMENTS), 0.0, np.cos(np.pi / ROUND_SEGMENTS)],
-    ]
-)
-"""Half a side of a ROUND_SEGMENTS part about canonical y (a lengthwise object's axis)."""
-
-
 def _face_down(parts: list[Part], size: np.ndarray) -> list[Part]:
     """The parts of a lengthwise round object built along canonical y (a bat, a pen),
     turned half a side about its axis when it lies (its box not tallest in z): a face of
@@ -219,7 +209,7 @@ def _face_down(parts: list[Part], size: np.ndarray) -> list[Part]:
     simulation; the registry fits the turned parts to the box again."""
     if size[2] > max(size[0], size[1]):
         return parts
-    return _pose(parts, _HALF_SEGMENT)
+    return _pose(parts, _rot_y(np.pi / ROUND_SEGMENTS))
 
 
 # -- displays: television, monitor, desktop computer, laptop, keyboard ------------------------
