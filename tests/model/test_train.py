@@ -78,8 +78,18 @@ def test_the_checkpoint_holds_the_pair_table_of_the_train_tuples_only(trained, p
     np.testing.assert_array_equal(got, want)
     everything = pair_centre_table(arrays.categories, arrays.frames, arrays.target, len(want))
     assert not np.array_equal(everything, want)  # the val tuples would move it
-    assert doc["layout"]["pair_turns"] is False  # the default: no yaw-turn table
-    assert "pair_turn" not in load_file(str(trained.out_dir / WEIGHTS_FILE))
+    assert doc["layout"]["pair_turns"] is True  # the default, as the bundled model
+    assert "pair_turn" in load_file(str(trained.out_dir / WEIGHTS_FILE))
+
+
+def test_no_pair_turns_writes_no_yaw_turn_table(tmp_path, pairs_dir, tiny_encoder):
+    from safetensors.numpy import load_file
+
+    cfg = TrainConfig(preset="tiny", encoder=str(tiny_encoder), max_steps=1, pair_turns=False)
+    run = train(cfg, pairs_dir, tmp_path, progress=False)
+    assert json.loads((run.out_dir / CONFIG_FILE).read_text())["layout"]["pair_turns"] is False
+    assert "pair_turn" not in load_file(str(run.out_dir / WEIGHTS_FILE))
+    assert from_pretrained(run.out_dir).net._pair_turn is None
 
 
 def test_pair_turns_without_yaw_turns_is_a_user_error():

@@ -294,6 +294,40 @@ def crowds(box: OrientedBox, wall: Wall, shown: list[tuple[str, OrientedBox, Wal
     return False
 
 
+WINDOW_CLEAR_M = 0.05
+"""Wall left between a window's frame and an object slid clear of it
+(:func:`clear_of_windows`)."""
+
+
+def clear_of_windows(box: OrientedBox, wall: Wall, room: Room) -> list[OrientedBox]:
+    """``box`` (hung on ``wall``) slid along the wall just clear of the windows it covers,
+    :data:`WINDOW_CLEAR_M` beside their frames: to the nearer side first, then the farther
+    (a slide that lands on a second window goes on past it). Empty when it covers none;
+    the slides may leave the wall (the caller's tests say so)."""
+    spans = sorted(
+        (a, b)
+        for a, b, z_min, z_max, _ in wall_openings(wall, room.windows)
+        if box.bottom < z_max and box.top > z_min
+    )
+    lo, hi = wall.extent(box)
+    hit = [(a, b) for a, b in spans if hi > a and lo < b]
+    if not hit:
+        return []
+    moves = []
+    for side in (-1.0, 1.0):  # past the covered windows' left end, then their right end
+        if side < 0:
+            shift = hit[0][0] - WINDOW_CLEAR_M - hi
+        else:
+            shift = hit[-1][1] + WINDOW_CLEAR_M - lo
+        for a, b in spans if side > 0 else spans[::-1]:  # and past any window it lands on
+            if hi + shift > a - WINDOW_CLEAR_M and lo + shift < b + WINDOW_CLEAR_M:
+                shift = (a - WINDOW_CLEAR_M - hi) if side < 0 else (b + WINDOW_CLEAR_M - lo)
+        moves.append(shift)
+    moves.sort(key=abs)
+    along = np.array([*wall.direction, 0.0])
+    return [OrientedBox(box.center + m * along, box.size, box.rotation) for m in moves]
+
+
 def mount_blocked(
     box: OrientedBox, wall: Wall, room: Room, dressing: bool, floor_boxes: list[OrientedBox]
 ) -> str | None:

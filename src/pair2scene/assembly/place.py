@@ -55,6 +55,7 @@ from pair2scene.assembly.hanging import draped, hang_clear, hangs_on, hung_size
 from pair2scene.assembly.mounting import (
     MAX_COVER,
     MountHeights,
+    clear_of_windows,
     covered_share,
     covered_shares,
     crowds,
@@ -83,6 +84,7 @@ from pair2scene.assembly.walls import (
     faced_by,
     free_length,
     free_stretches,
+    room_across,
     to_corners,
     turn_sideways,
     wall_order,
@@ -194,6 +196,18 @@ CROWD_RETRIES = 32
 """Candidates of a mounted object rejected only for hanging close to another on its wall
 (``crowded``, :attr:`AssemblyConfig.wall_spacing`) that are tried again, close allowed,
 when no candidate passed."""
+ACROSS_RETRIES = 32
+"""Candidates of a floor object rejected only for facing no wall with room for what the
+hierarchy hangs across from it (``no_wall_across``: "a TV on the wall opposite the
+sofa", the television's width free of doors and windows) that are tried again without
+it when no candidate passed."""
+WINDOW_RETRIES = 32
+"""Candidates of a mounted object rejected only for covering a window (``window``) that
+are tried again slid along their wall beside it (:func:`clear_of_windows`) when no
+candidate passed: the model draws a television hung across
+from its sofa where the sofa faces, and where a window is there every draw covered it (a
+4 x 5 m living room whose sofa faced its one window: 234 of 256 draws, the television
+dropped)."""
 
 
 def _flag(name: str) -> str:
@@ -893,6 +907,12 @@ class Placer:
             if n.category in HANGS_OVER and on_wall(hierarchy.support[n.id])
             and hierarchy.functional.get(n.id) is not None and n.id not in across
         }  # fmt: skip
+        faced_widths: dict[str, float] = {}  # floor id -> widest the hierarchy hangs across
+        for dep_id in hierarchy.across:
+            at = hierarchy.functional.get(dep_id)
+            if at is not None and dep_id in assets and hierarchy.support.get(at) == FLOOR:
+                width = float(max(assets[dep_id].size[:2]))
+                faced_widths[at] = max(faced_widths.get(at, 0.0), width)
         seats_at = Counter(  # a table's seats, for its wall draws
             hierarchy.functional[n.id] for n in hierarchy.nodes
             if n.category in SEATS and hierarchy.support[n.id] == FLOOR
@@ -1022,6 +1042,7 @@ class Placer:
             if mounted and framed and cfg.mount_heights and self.heights is not None:
                 context.heights = self.heights
             hung_across = None if node.id not in across or functional is None else functional.box
+            context.faced_width = faced_widths.get(node.id) if on_floor_ else None
             along_wall = on_floor_ and framed and queries[0][1] is not None
             context.sideways = along_wall and turned
             context.end_to_wall = across_wall
@@ -1060,6 +1081,8 @@ class Placer:
             unseated: list[OrientedBox] = []  # drawn candidates turned from or off their anchor
             crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
             crowded: list[tuple] = []  # (candidate, wall, across) rejected only as crowded
+            windowed: list[tuple] = []  # (candidate, wall, across) rejected only as window
+            unfaced: list[tuple] = []  # (candidate, wall, corner) rejected as no_wall_across
             lonely: list[tuple] = []  # (candidate, wall, corner) rejected only as isolated
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
@@ -1128,6 +1151,15 @@ class Placer:
                             crossed.append(box)
                         if reason == "crowded" and len(crowded) < CROWD_RETRIES:
                             crowded.append((box, context.mount, context.across))
+                        if reason == "no_wall_across" and len(unfaced) < ACROSS_RETRIES:
+                            unfaced.append((box, context.wall, context.corner))
+                        if (
+                            reason == "window"
+                            and mounted
+                            and dressing is None
+                            and len(windowed) < WINDOW_RETRIES
+                        ):
+                            windowed.append((box, context.mount, context.across))
                         if reason == "isolated" and len(lonely) < LONELY_RETRIES:
                             lonely.append((box, context.wall, context.corner))
                         missed += reason in NO_ROOM
@@ -1163,6 +1195,17 @@ class Placer:
                 t0 = time.perf_counter()
                 context.apart = None
                 accepted = self._retried(crowded, context, tried, stats, _as_hung)
+                timer["collision"] += time.perf_counter() - t0
+            if accepted is None and unfaced:  # none faces a wall with room: as drawn will do
+                t0 = time.perf_counter()
+                context.faced_width = None
+                accepted = self._retried(unfaced, context, tried, stats, _as_drawn)
+                timer["collision"] += time.perf_counter() - t0
+            if accepted is None and windowed:  # every draw over a window: beside it will do
+                t0 = time.perf_counter()
+                slid = [(b, wall, across) for box, wall, across in windowed
+                        for b in self._beside_windows(box, wall, room)]  # fmt: skip
+                accepted = self._retried(slid, context, tried, stats, _as_hung)
                 timer["collision"] += time.perf_counter() - t0
             if accepted is None and lonely:  # none near a wall or another: alone will do
                 t0 = time.perf_counter()
@@ -1385,6 +1428,10 @@ class Placer:
                 return None, "floor", moved  # nothing dropped it: it may have sunk
             reason, hits = self._blocked(rested, ctx)
             if reason is None:
+                if ctx.faced_width is not None and not room_across(
+                    rested, walls_of(ctx.room.floor_polygon), ctx.room, ctx.faced_width
+                ):
+                    return None, "no_wall_across", moved
                 return rested, None, moved
             if reason == "covers":  # the placer keeps it when nothing better comes
                 return rested, reason, moved
@@ -1424,6 +1471,12 @@ class Placer:
                     stats.repaired += int(moved)
                     return tried, settled
         return None
+
+    def _beside_windows(self, box: OrientedBox, wall, room: Room) -> list[OrientedBox]:
+        """Drawn ``box`` hung on ``wall`` (:func:`mount`) and slid beside the windows it
+        covers, nearer side first (:func:`clear_of_windows`); empty where it cannot hang."""
+        hung = mount(box, wall, room.height, self.config.ceiling_margin_m)
+        return [] if hung is None else clear_of_windows(hung, wall, room)
 
     def _hang_candidate(
         self, box: OrientedBox, ctx: _Context
@@ -1708,6 +1761,9 @@ class _Context:
     """How far short of the next wall a candidate is slid into a corner (m): 5 mm, or a
     shower panel's enclosure depth (:data:`ENCLOSURE_M`)."""
     apart: list | None = None
+    faced_width: float | None = None
+    """A floor object's: the width a wall it faces must have free of doors and windows,
+    for what the hierarchy hangs across the room from it (None: nothing)."""
     """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
     :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""
     mount: Wall | None = None

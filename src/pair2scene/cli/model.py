@@ -219,10 +219,10 @@ def train_command(
         bool,
         typer.Option(
             help="Add each category pair's share of each right-angle yaw turn over the train "
-            "tuples to the network's turn logits (a pair keeps its own split of yaws); off "
-            "by default (the bundled model): the network alone (docs/model.md)."
+            "tuples to the network's turn logits (a pair keeps its own split of yaws, as the "
+            "bundled model); --no-pair-turns: the network alone (docs/model.md)."
         ),
-    ] = False,
+    ] = True,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.

@@ -84,12 +84,12 @@ class TrainConfig:
     """Give each category pair one centre per mixture component, its train tuples'
     k-means clusters with their shares (:attr:`LayoutConfig.pair_modes`); False: the
     pair's median alone. Needs ``pair_prior``."""
-    pair_turns: bool = False
+    pair_turns: bool = True
     """Add each category pair's log share of each yaw turn over the train tuples to the
-    network's turn logits (:attr:`LayoutConfig.pair_turns`); False (the bundled model's):
-    the network alone splits every pair's yaws. Needs ``yaw_modes`` > 1. Measured on the
-    bundled data it follows the train tuples' yaws more closely and moves pose MMD against
-    the val rooms either way by room type (docs/model.md, "The pair table's yaw turns")."""
+    network's turn logits (:attr:`LayoutConfig.pair_turns`, the bundled model's); False:
+    the network alone splits every pair's yaws. Needs ``yaw_modes`` > 1. On the bundled
+    data the rooms follow the train tuples' yaws more closely (a pen on a dresser), with a
+    lower validation NLL given size (docs/model.md, "The pair table's yaw turns")."""
 
     def resolved_preset(self) -> TrainPreset:
         try:
