@@ -33,6 +33,7 @@ of candidates. Same seed, same model, same hierarchy: the same scene.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections import Counter
@@ -1185,39 +1186,24 @@ class Placer:
                     if why == "covers" and covering is None:
                         covering = (tried, settled, True)
                 timer["collision"] += time.perf_counter() - t0
+            lifted = functools.partial(self._lifted, context, tried, stats, timer)
             if accepted is None and crossed:  # none the drawn way: the other will do
-                t0 = time.perf_counter()
                 assert context.spot is not None
-                context.spot = replace(context.spot, parallel=None)
-                accepted = self._retried(crossed, context, tried, stats)
-                timer["collision"] += time.perf_counter() - t0
+                spot = replace(context.spot, parallel=None)
+                accepted = lifted(crossed, None, spot=spot)
             if accepted is None and crowded:  # none apart from the others: close will do
-                t0 = time.perf_counter()
-                context.apart = None
-                accepted = self._retried(crowded, context, tried, stats, _as_hung)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(crowded, _as_hung, apart=None)
             if accepted is None and unfaced:  # none faces a wall with room: as drawn will do
-                t0 = time.perf_counter()
-                context.faced_width = None
-                accepted = self._retried(unfaced, context, tried, stats, _as_drawn)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(unfaced, _as_drawn, faced_width=None)
             if accepted is None and windowed:  # every draw over a window: beside it will do
-                t0 = time.perf_counter()
                 slid = [(b, wall, across) for box, wall, across in windowed
                         for b in self._beside_windows(box, wall, room)]  # fmt: skip
-                accepted = self._retried(slid, context, tried, stats, _as_hung)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(slid, _as_hung)
             if accepted is None and lonely:  # none near a wall or another: alone will do
-                t0 = time.perf_counter()
-                context.company = None
-                accepted = self._retried(lonely, context, tried, stats, _as_drawn)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(lonely, _as_drawn, company=None)
             if accepted is None and halves:  # none by the drawn half: the other will do
-                t0 = time.perf_counter()
                 assert context.anchor is not None
-                context.anchor = replace(context.anchor, half=0)
-                accepted = self._retried(halves, context, tried, stats, _as_drawn)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(halves, _as_drawn, anchor=replace(context.anchor, half=0))
             if (
                 accepted is None
                 and unseated
@@ -1225,11 +1211,9 @@ class Placer:
                 and context.anchor is not None
                 and context.anchor.must_face
             ):  # turned from or off its anchor: seated at it
-                t0 = time.perf_counter()
                 at = context.anchor.anchor
                 seated = [(seated_at(b, at), None, None) for b in unseated]  # (wherever the walls)
-                accepted = self._retried(seated, context, tried, stats, _as_drawn)
-                timer["collision"] += time.perf_counter() - t0
+                accepted = lifted(seated, _as_drawn)
             if accepted is None and covering is not None:  # better than not there at all
                 index, settled, moved = covering
                 accepted = (index, settled)
@@ -1453,6 +1437,19 @@ class Placer:
             center = rested.center + push
             box, moved = OrientedBox(center, rested.size, rested.rotation), True
         return None, "collision", moved  # unreachable: the loop returns
+
+    def _lifted(
+        self, ctx: _Context, tried: int, stats: AssemblyStats, timer: dict, candidates: list,
+        place=None, **lift,
+    ) -> tuple[int, OrientedBox] | None:  # fmt: skip
+        """:meth:`_retried` of ``candidates`` once ``ctx`` has the fields of ``lift`` (the
+        preference they were rejected for lifted), its time counted as collision time."""
+        t0 = time.perf_counter()
+        for name, value in lift.items():
+            setattr(ctx, name, value)
+        accepted = self._retried(candidates, ctx, tried, stats, place)
+        timer["collision"] += time.perf_counter() - t0
+        return accepted
 
     def _retried(
         self, candidates: list, ctx: _Context, tried: int, stats: AssemblyStats, place=None
