@@ -205,10 +205,9 @@ it when no candidate passed."""
 WINDOW_RETRIES = 32
 """Candidates of a mounted object rejected only for covering a window (``window``) that
 are tried again slid along their wall beside it (:func:`clear_of_windows`) when no
-candidate passed: the model draws a television hung across
-from its sofa where the sofa faces, and where a window is there every draw covered it (a
-4 x 5 m living room whose sofa faced its one window: 234 of 256 draws, the television
-dropped)."""
+candidate passed: the model draws a television hung across from its sofa where the sofa
+faces, and where a window is there most draws cover it (a 4 x 5 m living room whose sofa
+faced its one window: 234 of 256 draws)."""
 
 
 def _flag(name: str) -> str:
@@ -1758,11 +1757,11 @@ class _Context:
     """How far short of the next wall a candidate is slid into a corner (m): 5 mm, or a
     shower panel's enclosure depth (:data:`ENCLOSURE_M`)."""
     apart: list | None = None
+    """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
+    :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""
     faced_width: float | None = None
     """A floor object's: the width a wall it faces must have free of doors and windows,
     for what the hierarchy hangs across the room from it (None: nothing)."""
-    """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
-    :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""
     mount: Wall | None = None
     """The wall a mounted object's candidates hang on (None: not mounted)."""
     heights: MountHeights | None = None
