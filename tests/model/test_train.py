@@ -97,6 +97,14 @@ def test_pair_turns_without_yaw_turns_is_a_user_error():
         TrainConfig(preset="tiny", pair_turns=True, yaw_modes=1).resolved_preset()
 
 
+def test_pair_turns_by_default_wherever_there_are_turns_to_share():
+    assert TrainConfig(preset="tiny").resolved_preset().layout.pair_turns
+    assert TrainConfig(preset="tiny", yaw_modes=2).resolved_preset().layout.pair_turns
+    one = TrainConfig(preset="tiny", yaw_modes=1).resolved_preset().layout  # the paper's head
+    assert not one.pair_turns and one.mixture.yaw_modes == 1
+    assert not TrainConfig(preset="tiny", pair_turns=False).resolved_preset().layout.pair_turns
+
+
 def test_pair_modes_without_the_pair_table_is_a_user_error():
     with pytest.raises(UserError, match="--pair-modes refines the pair table"):
         TrainConfig(preset="tiny", pair_modes=True, pair_prior=False).resolved_preset()

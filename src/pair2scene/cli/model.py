@@ -216,13 +216,16 @@ def train_command(
         ),
     ] = False,
     pair_turns: Annotated[
-        bool,
+        bool | None,
         typer.Option(
+            "--pair-turns/--no-pair-turns",
             help="Add each category pair's share of each right-angle yaw turn over the train "
             "tuples to the network's turn logits (a pair keeps its own split of yaws, as the "
-            "bundled model); --no-pair-turns: the network alone (docs/model.md)."
+            "bundled model); --no-pair-turns: the network alone (docs/model.md). Default: on "
+            "wherever --yaw-modes leaves turns to share out (2 or 4).",
+            show_default=False,
         ),
-    ] = True,
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
 ) -> None:
     """Train the layout model on the train split, measuring validation NLL every epoch.

@@ -84,12 +84,14 @@ class TrainConfig:
     """Give each category pair one centre per mixture component, its train tuples'
     k-means clusters with their shares (:attr:`LayoutConfig.pair_modes`); False: the
     pair's median alone. Needs ``pair_prior``."""
-    pair_turns: bool = True
+    pair_turns: bool | None = None
     """Add each category pair's log share of each yaw turn over the train tuples to the
     network's turn logits (:attr:`LayoutConfig.pair_turns`, the bundled model's); False:
-    the network alone splits every pair's yaws. Needs ``yaw_modes`` > 1. On the bundled
-    data the rooms follow the train tuples' yaws more closely (a pen on a dresser), with a
-    lower validation NLL given size (docs/model.md, "The pair table's yaw turns")."""
+    the network alone splits every pair's yaws; None (the default): on wherever there are
+    turns to share out (``yaw_modes`` > 1), so ``--yaw-modes 1`` alone trains the paper's
+    head. On the bundled data the rooms follow the train tuples' yaws more closely (a pen
+    on a dresser), with a lower validation NLL given size (docs/model.md, "The pair
+    table's yaw turns")."""
 
     def resolved_preset(self) -> TrainPreset:
         try:
@@ -112,16 +114,17 @@ class TrainConfig:
             p = dataclasses.replace(
                 p, layout=dataclasses.replace(p.layout, pair_modes=self.pair_modes)
             )
-        if p.layout.pair_turns != self.pair_turns:
-            p = dataclasses.replace(
-                p, layout=dataclasses.replace(p.layout, pair_turns=self.pair_turns)
-            )
         if p.layout.mixture.yaw_modes != self.yaw_modes:
             try:
                 mix = dataclasses.replace(p.layout.mixture, yaw_modes=self.yaw_modes)
             except ValueError as e:
                 raise UserError(f"--yaw-modes: {e}") from None
             p = dataclasses.replace(p, layout=dataclasses.replace(p.layout, mixture=mix))
+        turns = self.pair_turns
+        if turns is None:
+            turns = p.layout.mixture.yaw_modes > 1
+        if p.layout.pair_turns != turns:
+            p = dataclasses.replace(p, layout=dataclasses.replace(p.layout, pair_turns=turns))
         if self.pair_modes and not self.pair_prior:
             raise UserError("--pair-modes refines the pair table: it needs --pair-prior")
         if self.pair_turns and p.layout.mixture.yaw_modes == 1:
