@@ -29,7 +29,9 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from results import DOC, PROCTHOR_TRAIN, PROCTHOR_VAL, ROOMS, methods
+from results import DOC, PROCTHOR_VAL, ROOMS, methods
+
+from curation import PROCTHOR_TRAIN
 
 BEGIN, END = "<!-- pose-pooled -->", "<!-- /pose-pooled -->"
 COMPARED = ("ours (fit)", "gaussian")

@@ -34,7 +34,6 @@ from _docs import machine
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "results.md"
 PROCTHOR_VAL = ROOT.parent / "shared" / "data" / "procthor-1k" / "val.jsonl.gz"
-PROCTHOR_TRAIN = PROCTHOR_VAL.with_name("train.jsonl.gz")
 ROOMS = ("bedroom", "living_room", "kitchen")
 DISCUSSION = "## Discussion"
 VARIANTS = ("class-only", "no-pretrain", "global")

@@ -85,15 +85,19 @@ def test_clear_of_windows_slides_a_hung_object_beside_them_nearer_side_first():
     assert lo == pytest.approx(1.2 + WINDOW_CLEAR_M)  # past both windows
 
 
-def test_room_across_asks_a_faced_wall_free_of_doors_and_windows_that_wide():
-    from pair2scene.assembly.walls import room_across
+def test_walls_with_room_have_a_stretch_free_of_doors_and_windows_that_wide():
+    from pair2scene.assembly.walls import faced_by, walls_with_room
+
+    def room_across(box, width):  # a wall the box faces has that room
+        return any(faced_by(wall, box) for wall in walls_with_room(WALLS, ROOM, width))
 
     facing_window = OrientedBox.from_yaw([2.0, 1.5, 0.4], [2.0, 0.9, 0.8], 0.0)  # +y: wall 2
-    assert room_across(facing_window, WALLS, ROOM, 1.4)  # 1.5 m beside the 1 m window
-    assert not room_across(facing_window, WALLS, ROOM, 1.6)
+    assert room_across(facing_window, 1.4)  # 1.5 m beside the 1 m window
+    assert not room_across(facing_window, 1.6)
     facing_door = OrientedBox.from_yaw([2.0, 3.5, 0.4], [2.0, 0.9, 0.8], np.pi)  # wall 0
-    assert room_across(facing_door, WALLS, ROOM, 1.6)  # 2.05 m beside the door's margin
-    assert not room_across(facing_door, WALLS, ROOM, 2.1)
+    assert room_across(facing_door, 1.6)  # 2.05 m beside the door's margin
+    assert not room_across(facing_door, 2.1)
+    assert [w.index for w in walls_with_room(WALLS, ROOM, 1.6)] == [0, 1, 3]
 
 
 def test_curtains_hang_centred_on_the_window_from_above_it():

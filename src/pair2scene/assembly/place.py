@@ -85,10 +85,10 @@ from pair2scene.assembly.walls import (
     faced_by,
     free_length,
     free_stretches,
-    room_across,
     to_corners,
     turn_sideways,
     wall_order,
+    walls_with_room,
     within_reach,
 )
 from pair2scene.assets.forms import closed_by_walls, end_to_wall
@@ -1042,7 +1042,9 @@ class Placer:
             if mounted and framed and cfg.mount_heights and self.heights is not None:
                 context.heights = self.heights
             hung_across = None if node.id not in across or functional is None else functional.box
-            context.faced_width = faced_widths.get(node.id) if on_floor_ else None
+            width = faced_widths.get(node.id) if on_floor_ else None
+            if width is not None:  # it must face a wall the object hung across fits on
+                context.across_walls = walls_with_room(walls_of(room.floor_polygon), room, width)
             along_wall = on_floor_ and framed and queries[0][1] is not None
             context.sideways = along_wall and turned
             context.end_to_wall = across_wall
@@ -1193,7 +1195,7 @@ class Placer:
             if accepted is None and crowded:  # none apart from the others: close will do
                 accepted = lifted(crowded, _as_hung, apart=None)
             if accepted is None and unfaced:  # none faces a wall with room: as drawn will do
-                accepted = lifted(unfaced, _as_drawn, faced_width=None)
+                accepted = lifted(unfaced, _as_drawn, across_walls=None)
             if accepted is None and windowed:  # every draw over a window: beside it will do
                 slid = [(b, wall, across) for box, wall, across in windowed
                         for b in self._beside_windows(box, wall, room)]  # fmt: skip
@@ -1411,8 +1413,8 @@ class Placer:
                 return None, "floor", moved  # nothing dropped it: it may have sunk
             reason, hits = self._blocked(rested, ctx)
             if reason is None:
-                if ctx.faced_width is not None and not room_across(
-                    rested, walls_of(ctx.room.floor_polygon), ctx.room, ctx.faced_width
+                if ctx.across_walls is not None and not any(
+                    faced_by(wall, rested) for wall in ctx.across_walls
                 ):
                     return None, "no_wall_across", moved
                 return rested, None, moved
@@ -1759,9 +1761,9 @@ class _Context:
     apart: list | None = None
     """For a mounted object kept apart: the mounted objects (id, box, wall) it keeps
     :data:`~pair2scene.curation.stats.CLOSE_WALL_M` from on its wall (None: no rule)."""
-    faced_width: float | None = None
-    """A floor object's: the width a wall it faces must have free of doors and windows,
-    for what the hierarchy hangs across the room from it (None: nothing)."""
+    across_walls: list[Wall] | None = None
+    """A floor object's: the walls it may face, those with room free of doors and windows
+    for what the hierarchy hangs across the room from it (None: any)."""
     mount: Wall | None = None
     """The wall a mounted object's candidates hang on (None: not mounted)."""
     heights: MountHeights | None = None

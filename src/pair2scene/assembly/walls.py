@@ -395,15 +395,15 @@ def weighted_keys(rng: np.random.Generator, weights) -> np.ndarray:
     return rng.random(len(weights)) ** (1.0 / np.asarray(weights, dtype=float))
 
 
-def room_across(box: OrientedBox, walls: list[Wall], room: Room, width: float) -> bool:
-    """Whether a wall ``box``'s front points at (:func:`faced_by`) has a stretch free of
-    doors and windows at least ``width`` long: where an object hung across the room from
-    it (a television opposite the sofa) can hang."""
-    return any(
-        faced_by(wall, box)
-        and free_length(free_stretches(wall, room, [], 0.0, room.height), width) > 0.0
+def walls_with_room(walls: list[Wall], room: Room, width: float) -> list[Wall]:
+    """The ``walls`` with a stretch free of doors and windows at least ``width`` long:
+    where an object that wide can hang across the room from a floor object facing them
+    (a television opposite the sofa, :func:`faced_by`)."""
+    return [
+        wall
         for wall in walls
-    )
+        if free_length(free_stretches(wall, room, [], 0.0, room.height), width) > 0.0
+    ]
 
 
 def faced_by(wall: Wall, box: OrientedBox) -> bool:
