@@ -150,6 +150,37 @@ def test_guard_rejects_the_candidate_closing_the_last_gap():
     assert guard.reason(desk) is None
 
 
+def test_guard_keeps_the_rooms_reachable_share():
+    # a 3 x 3 m room; two cabinets back to the top wall, 1.4 m apart, and a sideboard
+    # closing the gap between them 0.6 m from the wall: a pocket of 1.0 x 0.2 m for the
+    # agent's centre, under min_cut_area_m2 (0.25) but 5 % of the free floor
+    small = room(np.array([[0, 0], [3, 0], [3, 3], [0, 3]], float),
+                 doors=(Opening("door", (1.0, 0.0), (2.0, 0.0), id="d"),))  # fmt: skip
+    legs = [
+        obj("a", (0.4, 2.4), (0.8, 1.2), yaw=np.pi),
+        obj("b", (2.6, 2.4), (0.8, 1.2), yaw=np.pi),
+    ]
+    sideboard = obj("c", (1.5, 2.15), (1.4, 0.5), yaw=np.pi)
+    nav = navigability(small, [*legs, sideboard])
+    assert nav.free_area_m2 - nav.reachable_area_m2 == pytest.approx(0.2, abs=0.01)
+    assert nav.reachable_fraction == pytest.approx(3.755 / 3.955, abs=0.002)
+    for share, reason in ((None, "cut"), (0.9, None), (0.0, None)):
+        cfg = NavigationConfig() if share is None else NavigationConfig(min_reachable_share=share)
+        guard = FloorGuard(small, cfg)
+        for o in legs:
+            assert guard.reason(o.box) is None
+            guard.add(o.box)
+        assert guard.reason(sideboard.box) == reason, share
+    # a room already below the share (a kept object made it so): what cuts nothing off
+    # may still stand
+    low = FloorGuard(small)
+    for o in [*legs, sideboard]:
+        low.add(o.box)
+    assert low.reason(obj("d", (2.7, 0.6), (0.6, 0.5)).box) is None
+    with pytest.raises(UserError, match="min-reachable-share"):
+        NavigationConfig(min_reachable_share=1.5)
+
+
 def test_guard_front_and_door_reasons():
     guard = FloorGuard(room())
     bed = obj("bed", (2.5, 5.0 - 0.1 - 1.0), (1.6, 2.0), category="bed").box
@@ -166,7 +197,8 @@ def test_guard_protects_the_front_of_a_placed_object():
     # a long sideboard 0.3 m in front of it, wall to wall on the left, leaving a pocket
     sideboard = obj("s", (1.9, 4.4 - 0.3 - 0.25), (3.8, 0.5), yaw=np.pi).box
     assert guard.reason(sideboard) in ("front_of_other", "cut")
-    relaxed = FloorGuard(room(), NavigationConfig(protect_fronts=False, min_cut_area_m2=10))
+    relaxed = FloorGuard(room(), NavigationConfig(protect_fronts=False, min_cut_area_m2=10,
+                                                  min_reachable_share=0.0))  # fmt: skip
     relaxed.add(wardrobe)
     assert relaxed.reason(sideboard) is None
 

@@ -106,6 +106,13 @@ class NavigationConfig:
     free floor cut off (pockets in corners and between legs are fine; 0.25 m2 is a square
     half a metre on a side, the least floor an agent can stand and turn in: 2.5 x its
     0.2 m radius)."""
+    min_reachable_share: float = WELL_REACHED
+    """:class:`FloorGuard`: a candidate that cuts any floor off may not bring the room's
+    reachable share of free floor (``reachable_fraction``) below this, nor lower than it
+    was when it already was (a room whose shape alone leaves pockets): small pockets add
+    up in a small room. A C-shaped counter run in a 9 m2 kitchen closed 0.24 m2, under
+    ``min_cut_area_m2`` but 9 % of its free floor (seed 22 of the docs/results.md
+    kitchens, 0.913 reachable). 0 turns this off."""
     any_side_below_m: float = 0.6
     """A floor object whose footprint's longer side is at most this (a plant, a lamp, a
     bin, a stool, a chair) is reachable from any face: such things have no front to speak
@@ -123,6 +130,9 @@ class NavigationConfig:
                         "any_side_below_m": self.any_side_below_m,
                         "min_cut_area_m2": self.min_cut_area_m2}  # fmt: skip
         check_ranges("--assembly.navigation.", positive, non_negative)
+        if not 0.0 <= self.min_reachable_share <= 1.0:  # (NaN fails too)
+            raise UserError(f"{flag('min_reachable_share')} must be in [0, 1], "
+                            f"got {self.min_reachable_share}")  # fmt: skip
         if self.resolution_m > 0.5:
             raise UserError(f"{flag('resolution_m')} must be at most 0.5, got {self.resolution_m}")
         if self.door_swing_m is not None and not (
@@ -657,12 +667,19 @@ class FloorGuard:
         """Whether adding ``box`` would spoil the floor (:meth:`reason` is not None)."""
         return self.reason(box) is not None
 
+    @staticmethod
+    def _share(reach: np.ndarray, free: np.ndarray) -> float:
+        """Reachable share of the free cells (1 with none), as ``reachable_fraction``."""
+        n = np.count_nonzero(free)
+        return np.count_nonzero(reach) / n if n else 1.0
+
     def reason(self, box: OrientedBox) -> str | None:
         """Why ``box`` may not stand on the floor, or None:
 
         - ``door``: its footprint overlaps a door's swing;
         - ``cut``: it cuts more than ``min_cut_area_m2`` of reachable free floor off the
-          doors;
+          doors, or cuts some off and leaves less than ``min_reachable_share`` of the
+          free floor reachable;
         - ``front``: its own front (or a side, against an object) would be out of reach;
         - ``front_of_other``: it cuts off the front of an object placed before
           (``protect_fronts``).
@@ -680,8 +697,13 @@ class FloorGuard:
             after = fl.reachable(free, from_doors=not self.door_shut)
             lost = reach & ~after
             lost[win] &= ~grown  # under the candidate itself: covered, not cut off
-            if np.count_nonzero(lost) * cfg.resolution_m**2 > cfg.min_cut_area_m2:
+            cut = np.count_nonzero(lost)
+            if cut * cfg.resolution_m**2 > cfg.min_cut_area_m2:
                 return "cut"
+            if cut:  # (the room's share as it stands: a kept object may have lowered it)
+                floor = min(cfg.min_reachable_share, self._share(reach, fl.free))
+                if self._share(after, free) < floor:
+                    return "cut"
         if not fl.face_reachable(fl.faces(box), after, fl.occupied)[0]:
             return "front"
         if cfg.protect_fronts and after is not reach:
