@@ -311,3 +311,28 @@ def test_floor_objects_standing_alone_are_counted_per_category():
         doc["isolated"] = {"chair": row}
         with pytest.raises(UserError, match=message):
             HierarchyStats.from_dict(doc, "stats.json")
+
+
+def test_pots_turned_any_way_stand_by_the_walls_their_footprint_reaches():
+    """Turned 40 degrees, a plant whose footprint comes 0.05 m from a wall stands by it and
+    one within reach of two stands in a corner, never sideways; a chair turned so stands
+    by no wall (its face is not parallel to one); a plant mid-room stands free (0 to 4 m
+    room)."""
+
+    def thing(oid, category, xy, degrees=40.0):
+        box = OrientedBox.from_yaw([*xy, 0.4], [0.4, 0.4, 0.8], np.radians(degrees))
+        return SceneObject(oid, category, box, None, FLOOR, None)
+
+    reach = 0.2 * np.sqrt(2) * np.cos(np.radians(5)) + 0.05  # half diagonal's reach, + gap
+    objects = [
+        thing("p0", "house_plant", [2.0, reach]),  # by the wall y = 0
+        thing("p1", "house_plant", [4 - reach, 4 - reach]),  # in the corner (4, 4)
+        thing("p2", "house_plant", [2.0, 2.0]),  # mid-room
+        thing("c0", "chair", [1.0, reach]),  # turned: no face against the wall
+        thing("p3", "house_plant", [3.0, 0.2], degrees=0.0),  # square to the wall y = 0
+    ]
+    scene = Scene("s", Room("living_room", ROOM), objects, source="test", split="train")
+    walls = HierarchyStats.fit([scene]).room_type("living_room")
+    assert walls.on_floor["house_plant"] == 4 and walls.against_wall["house_plant"] == 3
+    assert walls.in_corner["house_plant"] == 1 and walls.sideways["house_plant"] == 0
+    assert walls.against_wall["chair"] == 0

@@ -11,7 +11,9 @@ from pair2scene.scene.walls import (
     EMBEDDED_M,
     WALL_FRAME_DEPTH_M,
     against_wall,
+    in_corner,
     wall_contact,
+    walls_near,
     walls_of,
 )
 
@@ -57,6 +59,27 @@ def test_a_back_that_reaches_into_its_wall_stands_against_it():
     # a face short of the wall by more than the gap stays off it, whatever the depth allowed
     short = OrientedBox.from_yaw([2, 3 - 0.2 - depth / 2, 0.45], [3.0, depth, 0.9], np.pi)
     assert not against_wall(short, walls)
+
+
+def test_a_pot_turned_any_way_stands_by_the_walls_its_footprint_reaches():
+    walls = walls_of(RECT.floor_polygon)  # 0: y = 0, 1: x = 4, 2: y = 3, 3: x = 0
+    half_diagonal = 0.2 * np.sqrt(2)  # of a 0.4 x 0.4 pot turned 45 degrees
+    pot = OrientedBox.from_yaw([2, 3 - half_diagonal - 0.1, 0.3], [0.4, 0.4, 0.6], np.pi / 4)
+    assert wall_contact(pot, walls) is None  # no face parallel to the wall
+    assert walls_near(pot, walls) == {2}
+    assert walls_near(pot, walls, max_gap=0.05) == set()
+    corner = OrientedBox.from_yaw([4 - 0.3, 3 - 0.3, 0.3], [0.4, 0.4, 0.6], np.radians(30))
+    assert walls_near(corner, walls) == {1, 2} and not in_corner(corner, walls)
+    assert walls_near(OrientedBox.from_yaw([2, 1.5, 0.3], [0.4, 0.4, 0.6], 0.3), walls) == set()
+    # the inner corner of an L: near the wall x = 2 (y 2..4) only where the footprint is
+    # beside it, not past its end (below y = 2, where it stands by the wall y = 2 instead)
+    l_walls = walls_of(L_ROOM.floor_polygon)
+    beside = OrientedBox.from_yaw([1.8, 3.0, 0.3], [0.3, 0.3, 0.6], np.pi / 4)
+    beyond_end = OrientedBox.from_yaw([2.15, 1.75, 0.3], [0.3, 0.3, 0.6], np.pi / 4)
+    x2 = next(w.index for w in l_walls if np.allclose(w.p0[0], 2) and np.allclose(w.p1[0], 2))
+    assert x2 in walls_near(beside, l_walls)
+    y2 = next(w.index for w in l_walls if np.allclose([w.p0[1], w.p1[1]], 2))
+    assert walls_near(beyond_end, l_walls) == {y2}
 
 
 def test_side_to_the_wall_and_the_inner_corner_of_an_l():

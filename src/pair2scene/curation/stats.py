@@ -41,7 +41,14 @@ from pathlib import Path
 import numpy as np
 
 from pair2scene.assets.forms import form_key
-from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS, SuperCategory
+from pair2scene.categories import (
+    HANGS_OVER,
+    SEATED_AT,
+    SEATS,
+    TURN_FREE,
+    WINDOW_DRESSINGS,
+    SuperCategory,
+)
 from pair2scene.curation.tuples import SKIPPED_SUPER_CATEGORIES, wall_anchor
 from pair2scene.errors import UserError
 from pair2scene.scene.geometry import convex_overlap_area, polygon_area
@@ -59,6 +66,7 @@ from pair2scene.scene.walls import (
     against_wall,
     in_corner,
     wall_contact,
+    walls_near,
     walls_of,
 )
 
@@ -698,7 +706,12 @@ class HierarchyStats:
             wall = wall_anchor(scene, o, walls)
             gap = FIXTURE_WALL_GAP_M if o.super is SuperCategory.FIXTURE else AGAINST_GAP_M
             backed = against_wall(o.box, walls, gap)  # (its box may reach into the wall)
-            by_wall = backed or wall is not None or wall_contact(o.box, walls, gap) is not None
+            # (a pot has no side to turn to the wall: by one, it stands in a corner or not)
+            turn_free = o.category in TURN_FREE
+            near = walls_near(o.box, walls, gap) if turn_free else set()
+            by_wall = (backed or wall is not None or wall_contact(o.box, walls, gap) is not None
+                       or bool(near))  # fmt: skip
+            cornered = by_wall and (in_corner(o.box, walls) or len(near) >= 2)
             anchor = by_id.get(o.functional_anchor) if o.functional_anchor else None
             form = form_key(o.category, o.box.size)  # an L counter, counted apart too
             keys = [o.category] + ([] if form is None else [form])
@@ -714,8 +727,8 @@ class HierarchyStats:
             for key in keys:
                 room.on_floor[key] += 1
                 room.against_wall[key] += int(by_wall)
-                room.in_corner[key] += int(by_wall and in_corner(o.box, walls))
-                room.sideways[key] += int(by_wall and not backed)
+                room.in_corner[key] += int(cornered)
+                room.sideways[key] += int(by_wall and not backed and not turn_free)
             if wall is not None and anchor is not None:
                 d = float(anchor.box.in_frame_of(wall.box).center[1])  # frame y is metres
                 _add_sums(self.wall_anchor, o.category, anchor.category, (1.0, d, d * d))

@@ -200,6 +200,22 @@ def face_contacts(
     return out
 
 
+def walls_near(box: OrientedBox, walls: list[Wall], max_gap: float = AGAINST_GAP_M) -> set[int]:
+    """Indices of the walls ``box``'s footprint comes within ``max_gap`` of (or reaches
+    into by up to :data:`EMBEDDED_M`), over their length, whatever the angle between
+    them: where an object whose turn means nothing (a round pot) stands by a wall."""
+    corners = box.corners()[:, :2]
+    out = set()
+    for wall in walls:
+        local = np.array([wall.local(c) for c in corners])  # (along, inward)
+        inward = float(local[:, 1].min())
+        half = wall.length / 2
+        along = local[:, 0]
+        if -EMBEDDED_M <= inward <= max_gap and along.max() > -half and along.min() < half:
+            out.add(wall.index)
+    return out
+
+
 def in_corner(box: OrientedBox, walls: list[Wall], max_gap: float = AGAINST_GAP_M) -> bool:
     """Whether ``box`` stands in a corner: faces of it against two different walls."""
     return len({c.wall for c in face_contacts(box, walls, max_gap)}) >= 2
