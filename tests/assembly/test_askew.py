@@ -50,3 +50,37 @@ def test_a_free_standing_chair_stands_turned_and_square_without_the_rule():
 
     assert bins(True) == {"chair": 4, "armchair": 0}  # 20-30 degrees; square by its share
     assert bins(False) == {"chair": 0, "armchair": 0}
+
+
+def test_a_pot_by_a_wall_stands_turned_with_its_footprint_at_the_wall():
+    """A house plant the wall rules put against a wall (every one, none in a corner) is
+    turned 30-45 degrees off the walls' axes as a free one would be, and stands with its
+    footprint at the wall: by it (walls_near), though no face is parallel to it."""
+    pytest.importorskip("torch")
+    from pair2scene.assembly.place import AssemblyConfig, Placer
+    from pair2scene.assembly.rooms import make_room
+    from pair2scene.assembly.walls import WallRules
+    from pair2scene.hierarchy.tree import Hierarchy
+    from pair2scene.model import from_pretrained
+    from pair2scene.scene.model import FLOOR
+    from pair2scene.scene.walls import face_contacts, walls_near, walls_of
+
+    room = make_room("living_room", np.random.default_rng(0))
+    room = replace(room, floor_polygon=np.array([[0, 0], [4.0, 0], [4.0, 4.0], [0, 4.0]], float))
+    h = Hierarchy("living_room")
+    h.add("house_plant", FLOOR)
+    h.validate()
+    rules = WallRules(rates={"living_room": {"house_plant": (1.0, 1.0)}},
+                      corners={"living_room": {"house_plant": (0.0, 1.0)}})  # fmt: skip
+    shares = {"house_plant": np.array([0, 0, 0, 0, 0, 1.0])}
+    cfg = AssemblyConfig(candidates=16, batches=2)
+    for seed in range(4):
+        scene = (
+            Placer(from_pretrained(), config=cfg, walls=rules, askew=shares)
+            .place(h, room, seed=seed)
+            .scene
+        )
+        (pot,) = scene.objects
+        walls = walls_of(room.floor_polygon)
+        assert askew_bin(pot.box.yaw) == 5, seed  # 30-45 degrees off the axes
+        assert walls_near(pot.box, walls) and not face_contacts(pot.box, walls), seed

@@ -95,7 +95,7 @@ from pair2scene.assets.forms import closed_by_walls, end_to_wall
 from pair2scene.assets.identity import asset_seed, library_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
-from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, WINDOW_DRESSINGS
+from pair2scene.categories import HANGS_OVER, SEATED_AT, SEATS, TURN_FREE, WINDOW_DRESSINGS
 from pair2scene.curation.stats import ASKEW_BINS_DEG, split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError, check_ranges
@@ -114,7 +114,14 @@ from pair2scene.scene.model import (
 from pair2scene.scene.navigation import FloorGuard, NavigationConfig
 from pair2scene.scene.relations import faces, stands_alone
 from pair2scene.scene.relations import footprint as floor_outline
-from pair2scene.scene.walls import Wall, convex_ends, face_contacts, wall_contact, walls_of
+from pair2scene.scene.walls import (
+    Wall,
+    convex_ends,
+    face_contacts,
+    wall_contact,
+    walls_near,
+    walls_of,
+)
 
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
@@ -1047,6 +1054,7 @@ class Placer:
                 context.across_walls = walls_with_room(walls_of(room.floor_polygon), room, width)
             along_wall = on_floor_ and framed and queries[0][1] is not None
             context.sideways = along_wall and turned
+            context.turn_free = node.category in TURN_FREE
             context.end_to_wall = across_wall
             context.corner_gap = corner_gap
             context.left_corner = cornered
@@ -1123,7 +1131,7 @@ class Placer:
                     boxes = boxes[:0]  # drawn (for the generator), not tried
                 for index, vec in enumerate(boxes):
                     drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
-                    if tilt and context.wall is None:  # free of the walls: as left
+                    if tilt and (context.wall is None or context.turn_free):  # as left
                         drawn = OrientedBox(drawn.center, drawn.size,
                                             yaw_to_matrix(drawn.yaw + tilt))  # fmt: skip
                     box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's
@@ -1609,7 +1617,11 @@ class Placer:
             and stands_alone(floor_outline(box), ctx.room.floor_polygon, ctx.company)
         ):
             return "isolated", []  # alone mid-room, as its category's objects rarely stood
-        if ctx.wall is not None and not face_contacts(box, [ctx.wall], faces=("back",)):
+        if (
+            ctx.wall is not None
+            and not face_contacts(box, [ctx.wall], faces=("back",))
+            and not (ctx.turn_free and walls_near(box, [ctx.wall]))
+        ):
             # (its back against the wall, the usual case, is all :func:`wall_contact`
             # would have preferred: only without it are the other faces asked)
             contact = wall_contact(box, [ctx.wall])
@@ -1751,6 +1763,10 @@ class _Context:
     did not pass."""
     sideways: bool = False
     """The object is to stand with a side against ``wall``, not its back."""
+    turn_free: bool = False
+    """Its turn means nothing (:data:`~pair2scene.categories.TURN_FREE`): turned off the
+    walls' axes as the training rooms' were (:meth:`Placer._tilt`) even by a wall, where
+    its footprint reaching the wall puts it against it (a pot has no back)."""
     end_to_wall: bool = False
     """The object is a panel to stand across ``wall`` (:attr:`AssemblyConfig.end_to_wall`):
     when ``sideways``, never as drawn (its back, a long face, to the wall); a long face

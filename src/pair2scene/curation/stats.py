@@ -589,8 +589,9 @@ class HierarchyStats:
     was kept (then placement keeps no floor objects apart by footprint)."""
 
     askew: dict[str, list[int]] | None = field(default_factory=dict)
-    """floor category -> how many of its objects standing free of the walls turned off the
-    walls' axes by how much (:func:`askew_bin`'s bins): in the training rooms 0.75 of the
+    """floor category -> how many of its objects standing free of the walls (of
+    :data:`~pair2scene.categories.TURN_FREE`'s, all) turned off the walls' axes by how
+    much (:func:`askew_bin`'s bins): in the training rooms 0.75 of the
     chairs (most by 5-30 degrees: left as pulled out), 0.78 of the floor lamps, 0.96 of
     the house plants, 0.66 of the armchairs (most by 20-45 degrees: turned to the room),
     0.04 of the sofas, no table or dresser. None in statistics written before it was kept
@@ -721,7 +722,7 @@ class HierarchyStats:
                 keys.append(seats_key(o.category, seated[o.id]))
             if o.id in under:  # and each of those under a painting apart
                 keys += [under_key(k) for k in keys]
-            if not by_wall and self.askew is not None:
+            if (not by_wall or turn_free) and self.askew is not None:  # (by a wall too)
                 bins = self.askew.setdefault(o.category, [0] * len(ASKEW_BINS_DEG))
                 bins[askew_bin(o.box.yaw)] += 1
             for key in keys:
