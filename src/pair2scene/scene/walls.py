@@ -207,11 +207,9 @@ def walls_near(box: OrientedBox, walls: list[Wall], max_gap: float = AGAINST_GAP
     corners = box.corners()[:, :2]
     out = set()
     for wall in walls:
-        local = np.array([wall.local(c) for c in corners])  # (along, inward)
-        inward = float(local[:, 1].min())
+        along, inward = wall.local(corners).T
         half = wall.length / 2
-        along = local[:, 0]
-        if -EMBEDDED_M <= inward <= max_gap and along.max() > -half and along.min() < half:
+        if -EMBEDDED_M <= inward.min() <= max_gap and along.max() > -half and along.min() < half:
             out.add(wall.index)
     return out
 
