@@ -197,12 +197,16 @@ def test_coffee_table_shelves_are_below_the_top(assets):
 # -- beds -----------------------------------------------------------------------------
 @pytest.mark.parametrize("case", _cases(["bed"]), ids=lambda c: f"{c}")
 def test_bed_mattress_and_headboard(assets, case):
+    from pair2scene.assets.generators.beds import MATTRESS_TOP
+
     _, style, i = case
     asset = assets[case]
     sx, sy, sz = SIZES["bed"][i]
     mattress = _part(asset, "mattress")
     lo, hi = mattress.mesh.bounds
-    assert 0.3 * sz <= hi[2] + sz / 2 <= 0.7 * sz
+    # where the training rooms' beds carry things: 0.45 m + 0.2 x the height, 5 % either way
+    a, b, cap = MATTRESS_TOP
+    assert hi[2] + sz / 2 == pytest.approx(min(a + b * sz, cap * sz), rel=0.051)
     assert hi[0] - lo[0] > 0.8 * sx and hi[1] - lo[1] > 0.75 * sy
     assert _upward_area(mattress.mesh, hi[2]) > 0.6 * sx * sy
     head = _parts(asset, "headboard")
@@ -216,6 +220,22 @@ def test_bed_mattress_and_headboard(assets, case):
         foot = _part(asset, "footboard")
         assert _centre(foot)[1] > 0.4 * sy
         assert hi[2] < _top_z(foot) < sz / 2 - 0.1 * sz
+
+
+@pytest.mark.parametrize("style", range(3))
+def test_bed_mattress_fits_the_source_heights(style):
+    """Curation builds a source's bed with its mattress top where the source's objects
+    rest (the lowest of them: a pillow spawned higher falls onto it), held inside the box."""
+    from pair2scene.assets.generators.beds import FITTED_MATTRESS
+
+    size = (1.6, 2.1, 0.91)
+    for heights, want in (([0.57, 0.9], 0.57), ([0.62], 0.62), ([0.01], FITTED_MATTRESS[0] * 0.91),
+                          ([0.91], FITTED_MATTRESS[1] * 0.91)):  # fmt: skip
+        asset = generate("bed", size, rng=style, style=style, support_heights=heights)
+        lo, hi = _part(asset, "mattress").mesh.bounds
+        assert hi[2] + size[2] / 2 == pytest.approx(want, abs=1e-6), heights
+        head = max(_top_z(p) for p in _parts(asset, "headboard"))
+        assert head == pytest.approx(size[2] / 2, abs=1e-6)
 
 
 BUNK_SIZES = [(1.15, 1.86, 1.58), (1.16, 2.43, 1.96), (1.15, 2.52, 2.32)]

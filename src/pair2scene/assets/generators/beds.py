@@ -32,9 +32,21 @@ AI2-THOR's and ProcTHOR's bunk and loft beds 1.58-2.32 m, which a single mattres
 half the height drew as a bed stood on end."""
 BUNK_HEADROOM_M = 0.55
 """At least this much free height between the lower mattress and the upper deck."""
+MATTRESS_TOP = (0.45, 0.2, 0.78)
+"""(a, b, cap): a single bed's mattress top stands a + b x the box height above the floor
+(jittered 5 %), at most cap x the height. Fitted on what rests on the training rooms'
+beds (153 AI2-THOR and ProcTHOR train beds under 1.5 m, the median base of their objects
+other than pillows): it misses their heights by 0.085 m on average and 0.01 m at the
+median, where half the box height (the rule before) put the mattress 0.13 m too low at the
+median, under everything the data rests on a bed (a 0.9 m bed: 0.63 m against the data's
+0.57-0.61, 0.45 before)."""
+FITTED_MATTRESS = (0.15, 0.95)
+"""Instance fitting (curation): the mattress top goes to the lowest height something
+rests at on the source's bed, held in this share of the box height (a pillow the source
+spawned higher falls onto it in the physics check; a headboard stays above it)."""
 
 
-@register("bed", variants=3)
+@register("bed", variants=3, fits_support_heights=True)
 @min_design_extent(0.4)
 def bed(
     size: np.ndarray,
@@ -42,16 +54,22 @@ def bed(
     style: int,
     support_heights: Sequence[float] | None = None,
 ) -> list[Part]:
-    """Bed: a mattress (the upward surface, near half the box height) on a frame, with a
+    """Bed: a mattress (the upward surface, at :data:`MATTRESS_TOP`) on a frame, with a
     headboard at -y spanning the full height. Upholstered base on a recessed plinth with a
     padded headboard (0), wooden frame with corner posts and a footboard (1), or a low
     platform wider than the mattress with a slatted headboard (2). A box at least
-    :data:`BUNK_MIN_HEIGHT_M` tall is a bunk bed (:func:`_bunk_bed`)."""
+    :data:`BUNK_MIN_HEIGHT_M` tall is a bunk bed (:func:`_bunk_bed`). ``support_heights``
+    (heights above the box bottom where a source's objects rest on it) put the mattress
+    top at the lowest of them (:data:`FITTED_MATTRESS`)."""
     sx, sy, sz = (float(v) for v in size)
     if sz >= BUNK_MIN_HEIGHT_M:
         return _bunk_bed(sx, sy, sz, rng, style)
     hx, hy = sx / 2, sy / 2
-    mat_top = clip(0.5 * jitter(rng, 0.05), 0.35, 0.7) * sz
+    a, b, cap = MATTRESS_TOP
+    mat_top = min((a + b * sz) * jitter(rng, 0.05), cap * sz)
+    if support_heights:
+        lo, hi = FITTED_MATTRESS
+        mat_top = clip(min(support_heights), lo * sz, hi * sz)
     mat_t = min(clip(0.22 * sz, 0.08, 0.3) * jitter(rng), 0.6 * mat_top)
     frame_top = mat_top - mat_t
     mi = clip(0.015 * sx, 0.005, 0.03)  # mattress inset from the frame's edge
