@@ -40,6 +40,49 @@ def test_field_docs_are_the_strings_under_the_fields():
     assert field_docs(_Inner)["depth"].startswith("How deep.\n\nMore text")
 
 
+def _docs_by_getsource(cls) -> dict[str, str]:
+    """What ``field_docs`` gave before its fast path: the class by ``inspect.getsource``."""
+    import ast
+    import inspect
+    import textwrap
+
+    body = ast.parse(textwrap.dedent(inspect.getsource(cls))).body[0].body
+    return {
+        node.target.id: inspect.cleandoc(after.value.value)
+        for node, after in zip(body, body[1:])
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name)
+        and isinstance(after, ast.Expr) and isinstance(after.value, ast.Constant)
+        and isinstance(after.value.value, str)
+    }  # fmt: skip
+
+
+def test_field_docs_read_each_config_class_as_getsource_does():
+    """The class found by its ``class`` line gives the docs ``inspect.getsource`` gives:
+    every config class of the command line, and the fallbacks (a class made in a
+    function, a name defined twice in a module)."""
+    import dataclasses
+    import typing
+
+    seen, todo = [], [GenerateConfig, HierarchyConfig, _Outer]
+    while todo:
+        cls = todo.pop()
+        seen.append(cls)
+        hints = typing.get_type_hints(cls)
+        todo += [hints[f.name] for f in dataclasses.fields(cls)
+                 if dataclasses.is_dataclass(hints[f.name])]  # fmt: skip
+    assert {c.__name__ for c in seen} >= {"AssemblyConfig", "NavigationConfig", "Tolerances"}
+    for cls in seen:
+        assert field_docs(cls) == _docs_by_getsource(cls), cls
+
+    @dataclass(frozen=True)
+    class _Local:
+        size: int = 1
+        """Local."""
+
+    assert field_docs(_Local) == {"size": "Local."}
+    assert field_docs(_Twice) == _docs_by_getsource(_Twice) != {}
+
+
 def test_options_are_the_leaf_fields_by_path():
     opts = {o.flag: o for o in config_options(_Outer)}
     assert list(opts) == ["--count", "--limit", "--flag", "--inner.depth"]
@@ -140,3 +183,15 @@ def test_hierarchy_takes_the_hierarchy_settings_by_the_same_names(capsys):
         return sum(1 for t in doc["sequence"] if t["support"]["id"] == "floor")
 
     assert floor_pieces("--hierarchy.beyond-load", "0.5") > floor_pieces()
+
+
+@dataclass(frozen=True)
+class _Twice:
+    first: int = 1
+    """The earlier one."""
+
+
+@dataclass(frozen=True)  # (the same name again: field_docs finds it by inspect.getsource)
+class _Twice:  # noqa: F811
+    second: int = 2
+    """The later one."""
