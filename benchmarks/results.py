@@ -128,6 +128,8 @@ LAYOUT = (
     ("layout", "floor_overlaps", "over/under another"),
     ("layout", "floor_askew", "turned off the walls"),
     ("layout", "floor_isolated", "alone mid-room"),
+    ("layout", "rooms_sparse", "rooms sparse"),
+    ("layout", "rooms_crowded", "rooms crowded"),
     ("navigation", "reachable_free_floor", "reachable floor"),
     ("navigation", "rooms_reachable_0.97", "rooms >= 0.97"),
     ("navigation", "objects_reachable", "fronts reachable"),

@@ -17,6 +17,7 @@ from pair2scene.metrics.layout import (
     chairs_per_table,
     floor_askew,
     floor_isolated,
+    floor_share,
     layout_measures,
     layout_report,
     nightstands_at_bed_head,
@@ -255,6 +256,32 @@ def test_floor_objects_standing_alone_in_the_room():
     lone = room(obj("p", "house_plant", [2.0, 2.0], [0.4, 0.4, 0.8]))
     assert floor_isolated(lone) == [1, 1]
     assert floor_isolated(room()) == [0, 0]
+
+
+def test_rooms_sparse_and_crowded_by_their_floor_share():
+    """In the 4 x 4 m room (16 m2): a 1.6 x 2.0 bed alone covers 0.2 of the floor, neither
+    sparse nor crowded; a 1 x 1 cabinet alone 0.0625, sparse; bed, wardrobe, desk and
+    dresser, turned or not, 6.13 m2 (0.38), crowded. A book on the bed and a painting on a wall
+    cover nothing; the L-shaped room's floor is 12 m2."""
+    bed = obj("b", "bed", [2, 1.05], BED)
+    book = obj("bk", "book", [2, 1.05], [0.2, 0.15, 0.03], support="b", z=0.62)
+    painting = obj("pa", "painting", [2, 0.02], [0.8, 0.04, 0.6], support="wall:0", z=1.5)
+    scene = room(bed, book, painting)
+    assert floor_share(scene) == pytest.approx(3.2 / 16)
+    measures = layout_measures(scene)
+    assert (measures["rooms_sparse"], measures["rooms_crowded"]) == ([0, 1], [0, 1])
+    sparse = room(obj("c", "cabinet", [0.5, 0.5], [1.0, 1.0, 0.8]))
+    assert floor_share(sparse) == pytest.approx(1 / 16)
+    assert layout_measures(sparse)["rooms_sparse"] == [1, 1]
+    full = room(bed, obj("w", "wardrobe", [3.5, 2], [2.0, 0.6, 2.0], yaw=EAST),
+                obj("d", "desk", [1, 3.5], [1.4, 0.7, 0.75]),
+                obj("dr", "dresser", [3, 3.7], [1.5, 0.5, 0.9]))  # fmt: skip
+    assert floor_share(full) == pytest.approx(6.13 / 16)
+    assert layout_measures(full)["rooms_crowded"] == [1, 1]
+    assert floor_share(room(bed, polygon=L_SHAPE)) == pytest.approx(3.2 / 12)
+    report = layout_report([scene, sparse, full])
+    assert report["rooms_sparse"]["count"] == [1, 3]
+    assert report["rooms_crowded"]["count"] == [1, 3]
 
 
 def test_wall_gap_and_standing_alone_in_an_l_shaped_room():
