@@ -60,7 +60,7 @@ import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
 from pair2scene.curation.stats import askew_bin, one_over_another
-from pair2scene.scene.geometry import OrientedBox, polygon_area
+from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
     FACING_MAX_DEG,
@@ -278,7 +278,7 @@ def floor_isolated(scene: Scene) -> list[int]:
 def floor_share(scene: Scene) -> float | None:
     """How much of the room's floor its floor objects' footprints cover (box width x depth,
     summed; overlaps counted twice); None for a room without floor area."""
-    area = abs(polygon_area(np.asarray(scene.room.floor_polygon, float)[:, :2]))
+    area = abs(scene.room.area)
     if area <= 0:
         return None
     return sum(float(o.box.size[0] * o.box.size[1]) for o in _floor_objects(scene)) / area

@@ -669,7 +669,8 @@ class FloorGuard:
 
     @staticmethod
     def _share(reach: np.ndarray, free: np.ndarray) -> float:
-        """Reachable share of the free cells (1 with none), as ``reachable_fraction``."""
+        """Reachable share of the free cells, as ``reachable_fraction`` counts it, but 1
+        with no free cell (nothing left to cut off; ``reachable_fraction`` reads 0)."""
         n = np.count_nonzero(free)
         return np.count_nonzero(reach) / n if n else 1.0
 
