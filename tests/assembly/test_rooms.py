@@ -198,3 +198,99 @@ def test_floor_shapes_round_trip_and_reject_garbage():
     assert doc["format"] == STATS_FORMAT and doc["version"] == STATS_VERSION
     with pytest.raises(UserError, match="malformed statistics"):
         HierarchyStats.from_dict(doc)
+
+
+def _shapes_by_area(areas: list[float]):
+    """A Counter of square rooms of ``areas`` (m2), one room each, 2.5 m high."""
+    from collections import Counter
+
+    out = Counter()
+    for a in areas:
+        s = float(np.sqrt(a))
+        out[(2.5, 0.0, 0.0, s, 0.0, s, s, 0.0, s)] += 1
+    return out
+
+
+def test_rooms_sized_for_their_furniture_as_the_training_rooms_were():
+    """With the training rooms' log furniture share, a room is drawn where its furniture
+    covers about the share they had: 3 m2 of furniture at a share of 0.25 gets rooms of
+    about 12 m2, 6 m2 rooms of about 24 m2; without it, any room large enough."""
+    from pair2scene.assembly.rooms import draw_floor
+
+    shapes = _shapes_by_area([8.0, 12.0, 16.0, 24.0, 32.0, 48.0])
+    share = (float(np.log(0.25)), 0.2)
+
+    def areas(furniture, normal):
+        out = []
+        for seed in range(200):
+            poly, _ = draw_floor(shapes, np.random.default_rng(seed), furniture / 0.4,
+                                 furniture, normal)  # fmt: skip
+            out.append(round(float(np.prod(poly.max(0))), 1))
+        return np.array(out)
+
+    small, large = areas(3.0, share), areas(6.0, share)
+    assert np.mean(small == 12.0) > 0.6 and np.mean(large == 24.0) > 0.6
+    assert set(small) <= {8.0, 12.0, 16.0, 24.0} and set(large) <= {16.0, 24.0, 32.0}
+    loose = areas(3.0, None)  # by count alone: each room at least 7.5 m2 equally often
+    assert len(set(loose)) == 6 and np.mean(loose == 12.0) < 0.3
+    # the same seed draws the same room; no furniture: the share plays no part
+    assert np.array_equal(areas(3.0, share), small)
+    assert np.array_equal(areas(0.0, share), areas(0.0, None))
+    # furniture far beyond every room: the largest, as before
+    assert set(areas(100.0, share)) == {48.0}
+
+
+def test_furniture_share_counted_merged_and_read_back():
+    """Curation keeps [rooms, sum, sum of squares] of the log share per room type;
+    merging adds them, a composed type weighs its bases, JSON keeps them, and a
+    malformed entry is refused."""
+    from pair2scene.curation.stats import (
+        HierarchyStats,
+        RoomTypeStats,
+        furniture_share,
+    )
+    from pair2scene.scene.geometry import OrientedBox
+    from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
+
+    room = Room("bedroom", np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 5.0], [0.0, 5.0]]), 2.6)
+
+    def obj(i, size, support=FLOOR):
+        box = OrientedBox(np.array([1.0 + i, 2.0, size[2] / 2]), np.array(size, float))
+        return SceneObject(f"o{i}", "bed", box, support=support)
+
+    placed = [obj(0, (2.0, 2.0, 0.5)), obj(1, (1.0, 1.0, 0.5)), obj(2, (1.0, 1.0, 0.1), "o0")]
+    assert furniture_share(room, placed) == pytest.approx(5.0 / 20.0)  # the one on the bed not
+    assert furniture_share(Room("bedroom", np.zeros((4, 2)), 2.6), placed) == 0.0
+
+    stats = HierarchyStats.fit([Scene("s", room, placed)])
+    rs = stats.room_types["bedroom"]
+    assert rs.floor_share == pytest.approx([1.0, np.log(0.25), np.log(0.25) ** 2])
+    assert rs.share_normal() is None  # one room: no spread
+    empty = Scene("e", room, [])  # a room with no floor objects is not counted
+    other = HierarchyStats.fit([Scene("t", room, placed[1:]), empty])
+    merged = HierarchyStats.merge([stats, other])
+    rs = merged.room_types["bedroom"]
+    logs = np.log([0.25, 1.0 / 20.0])
+    assert rs.floor_share == pytest.approx([2.0, logs.sum(), (logs**2).sum()])
+    assert rs.share_normal() == pytest.approx((logs.mean(), logs.std()))
+    back = HierarchyStats.from_json(merged.to_json())
+    assert back.room_types["bedroom"].floor_share == pytest.approx(rs.floor_share, abs=1e-6)
+    assert RoomTypeStats().share_normal() is None  # statistics written before it was kept
+    doc = merged.to_dict()
+    doc["room_types"]["bedroom"]["floor_share"] = [1.0, "x"]
+    with pytest.raises(UserError, match="malformed statistics"):
+        HierarchyStats.from_dict(doc)
+
+
+def test_bundled_statistics_size_rooms_like_the_training_rooms():
+    """The bundled statistics keep the furniture share of every trained room type (and
+    a composed type gets its bases')."""
+    from pair2scene.curation.stats import HierarchyStats
+    from pair2scene.resources import load_table
+
+    stats = HierarchyStats.from_dict(load_table("hierarchy_stats"))
+    for rtype in ("bedroom", "living_room", "kitchen", "bathroom"):
+        rs = stats.room_types[rtype]
+        mean, sd = rs.share_normal()
+        assert rs.floor_share[0] > 0.8 * rs.rooms and -2.0 < mean < -1.0 and 0.2 < sd < 0.7
+    assert stats.room_type("office").share_normal() is not None  # a composed type's bases

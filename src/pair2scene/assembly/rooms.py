@@ -132,7 +132,8 @@ def make_room(
 ) -> Room:
     """A room of a training room's shape and height (:func:`draw_floor`; a rectangle of
     ``table``'s sizes when ``stats`` has no shapes), with room for ``furniture_m2`` of
-    floor furniture footprint (:data:`MAX_FLOOR_SHARE`), one door on a random wall long
+    floor furniture footprint (:data:`MAX_FLOOR_SHARE`) and sized for it as the training
+    rooms were (:meth:`RoomTypeStats.share_normal`), one door on a random wall long
     enough for it and the windows of :func:`draw_windows` (none without ``stats``); the
     floor's bounds start at the origin. The windows are drawn after the rest, so a room's
     shape and door do not depend on them; ``min_windows``: at least that many (one for
@@ -141,7 +142,8 @@ def make_room(
     left bare)."""
     min_area = furniture_m2 / MAX_FLOOR_SHARE
     if stats is not None and stats.floor_shapes:
-        polygon, h = draw_floor(stats.floor_shapes, rng, min_area)
+        polygon, h = draw_floor(stats.floor_shapes, rng, min_area, furniture_m2,
+                                stats.share_normal())  # fmt: skip
     else:
         table = RoomTable.load() if table is None else table
         w, d, h = table.draw(room_type, rng, min_area)
@@ -169,13 +171,24 @@ def make_room(
 
 
 def draw_floor(
-    shapes: Counter[tuple[float, ...]], rng: np.random.Generator, min_area: float = 0.0
+    shapes: Counter[tuple[float, ...]],
+    rng: np.random.Generator,
+    min_area: float = 0.0,
+    furniture_m2: float = 0.0,
+    share: tuple[float, float] | None = None,
 ) -> tuple[np.ndarray, float]:
     """(floor polygon (N, 2) counter-clockwise, height) of a training room drawn from
-    ``shapes`` (:attr:`~pair2scene.curation.stats.RoomTypeStats.floor_shapes`, weighted
-    by how many rooms had it) among those with at least ``min_area`` m2 of floor (the
-    largest when none has), turned a random quarter turn, its bounds starting at the
-    origin."""
+    ``shapes`` (:attr:`~pair2scene.curation.stats.RoomTypeStats.floor_shapes`) among
+    those with at least ``min_area`` m2 of floor (the largest when none has), turned a
+    random quarter turn, its bounds starting at the origin.
+
+    Each shape is weighted by how many rooms had it and, given ``share`` (mean and
+    standard deviation of the training rooms' log furniture share) and ``furniture_m2``,
+    by the normal density of the log share the furniture would cover in it: a bed and a
+    nightstand get a bedroom of the size such a bedroom had, not any bedroom at least
+    2.5x their footprint (drawn by count alone, 11 % of fit bedrooms and 28 % of fit
+    kitchens came out under 0.12 of their floor covered, against 4 % and 9 % of the
+    training rooms)."""
     keys = sorted(shapes)
     polys = [np.asarray(k[1:], float).reshape(-1, 2) for k in keys]
     area = np.array([polygon_area(p) for p in polys])
@@ -184,6 +197,9 @@ def draw_floor(
         i = int(np.argmax(area))
     else:
         p = np.array([shapes[keys[j]] for j in large], float)
+        if share is not None and furniture_m2 > 0:
+            log_density = -0.5 * ((np.log(furniture_m2 / area[large]) - share[0]) / share[1]) ** 2
+            p *= np.exp(log_density - log_density.max())
         i = int(large[rng.choice(len(large), p=p / p.sum())])
     turn = int(rng.integers(4))
     c, s = np.round(np.cos(turn * np.pi / 2)), np.round(np.sin(turn * np.pi / 2))
