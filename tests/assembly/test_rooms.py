@@ -264,20 +264,20 @@ def test_furniture_share_counted_merged_and_read_back():
 
     stats = HierarchyStats.fit([Scene("s", room, placed)])
     rs = stats.room_types["bedroom"]
-    assert rs.floor_share == pytest.approx([1.0, np.log(0.25), np.log(0.25) ** 2])
+    assert rs.share_sums == pytest.approx([1.0, np.log(0.25), np.log(0.25) ** 2])
     assert rs.share_normal() is None  # one room: no spread
     empty = Scene("e", room, [])  # a room with no floor objects is not counted
     other = HierarchyStats.fit([Scene("t", room, placed[1:]), empty])
     merged = HierarchyStats.merge([stats, other])
     rs = merged.room_types["bedroom"]
     logs = np.log([0.25, 1.0 / 20.0])
-    assert rs.floor_share == pytest.approx([2.0, logs.sum(), (logs**2).sum()])
+    assert rs.share_sums == pytest.approx([2.0, logs.sum(), (logs**2).sum()])
     assert rs.share_normal() == pytest.approx((logs.mean(), logs.std()))
     back = HierarchyStats.from_json(merged.to_json())
-    assert back.room_types["bedroom"].floor_share == pytest.approx(rs.floor_share, abs=1e-6)
+    assert back.room_types["bedroom"].share_sums == pytest.approx(rs.share_sums, abs=1e-6)
     assert RoomTypeStats().share_normal() is None  # statistics written before it was kept
     doc = merged.to_dict()
-    doc["room_types"]["bedroom"]["floor_share"] = [1.0, "x"]
+    doc["room_types"]["bedroom"]["share_sums"] = [1.0, "x"]
     with pytest.raises(UserError, match="malformed statistics"):
         HierarchyStats.from_dict(doc)
 
@@ -292,5 +292,5 @@ def test_bundled_statistics_size_rooms_like_the_training_rooms():
     for rtype in ("bedroom", "living_room", "kitchen", "bathroom"):
         rs = stats.room_types[rtype]
         mean, sd = rs.share_normal()
-        assert rs.floor_share[0] > 0.8 * rs.rooms and -2.0 < mean < -1.0 and 0.2 < sd < 0.7
+        assert rs.share_sums[0] > 0.8 * rs.rooms and -2.0 < mean < -1.0 and 0.2 < sd < 0.7
     assert stats.room_type("office").share_normal() is not None  # a composed type's bases

@@ -402,10 +402,10 @@ class RoomTypeStats:
     centimetre -> how many rooms had it (a third of the ProcTHOR rooms are L-shaped or
     more). Empty in statistics written before it was kept (then generated rooms are
     rectangles of the room table's sizes)."""
-    floor_share: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    share_sums: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
     """[rooms, sum, sum of squares] of the log of :func:`furniture_share` over the rooms
     with floor objects: how much of its floor a room's furniture covers (AI2-THOR +
-    ProcTHOR-1k train: a median 0.25 in bedrooms, 0.21 in living rooms and kitchens, a
+    ProcTHOR-1k train: a median 0.24 in bedrooms, 0.21 in living rooms and kitchens, a
     log standard deviation of 0.38-0.47; larger rooms hold more furniture). Generated
     rooms are drawn to match it (:func:`~pair2scene.assembly.rooms.draw_floor`). Zeros
     in statistics written before it was kept (then any training room large enough for
@@ -472,14 +472,14 @@ class RoomTypeStats:
         self.window_counts.update(other.window_counts)
         self.window_shapes.update(other.window_shapes)
         self.floor_shapes.update(other.floor_shapes)
-        self.floor_share = [a + b for a, b in zip(self.floor_share, other.floor_share)]
+        self.share_sums = [a + b for a, b in zip(self.share_sums, other.share_sums)]
         for anchor, deps in other.sup_dep.items():
             self.sup_dep.setdefault(anchor, Counter()).update(deps)
 
     def share_normal(self) -> tuple[float, float] | None:
         """(mean, standard deviation) of the rooms' log :func:`furniture_share`; None
         with fewer than two rooms or no spread (statistics written before it was kept)."""
-        n, total, squares = self.floor_share
+        n, total, squares = self.share_sums
         if n < 2:
             return None
         mean, sd = mean_std(n, total, squares)
@@ -707,8 +707,8 @@ class HierarchyStats:
         share = furniture_share(scene.room, placed)
         if share > 0:
             log_share = float(np.log(share))
-            room.floor_share = [a + b for a, b in
-                                zip(room.floor_share, (1.0, log_share, log_share**2))]  # fmt: skip
+            room.share_sums = [a + b for a, b in
+                                zip(room.share_sums, (1.0, log_share, log_share**2))]  # fmt: skip
         models: dict[str, list[str]] = {}
         for o in placed:
             if o.support == FLOOR and o.asset is not None and o.asset.id:
@@ -917,8 +917,8 @@ class HierarchyStats:
                 counts = getattr(pooled, name)
                 for key, n in getattr(part, name).items():
                     counts[key] += n * scale
-            share = zip(pooled.floor_share, part.floor_share)
-            pooled.floor_share = [a + b * scale for a, b in share]
+            share = zip(pooled.share_sums, part.share_sums)
+            pooled.share_sums = [a + b * scale for a, b in share]
             for anchor, deps in part.sup_dep.items():
                 counts = pooled.sup_dep.setdefault(anchor, Counter())
                 for key, n in deps.items():
@@ -961,7 +961,7 @@ class HierarchyStats:
                 "window_counts": counts(rs.window_counts),
                 "window_shapes": [[*k, n] for k, n in sorted(rs.window_shapes.items())],
                 "floor_shapes": [[*k, n] for k, n in sorted(rs.floor_shapes.items())],
-                "floor_share": [round(v, 6) for v in rs.floor_share],
+                "share_sums": [round(v, 6) for v in rs.share_sums],
                 "sup_dep": {a: counts(d) for a, d in sorted(rs.sup_dep.items())},
             }
         return {
@@ -1049,10 +1049,10 @@ class HierarchyStats:
                     if len(shape) < 7 or len(shape) % 2 == 0:
                         raise ValueError(f"a floor shape of {len(shape)} numbers")
                     rs.floor_shapes[tuple(float(v) for v in shape)] += int(n)
-                share = [float(v) for v in rd.get("floor_share", (0.0, 0.0, 0.0))]
+                share = [float(v) for v in rd.get("share_sums", (0.0, 0.0, 0.0))]
                 if len(share) != 3 or not np.isfinite(share).all() or share[0] < 0:
-                    raise ValueError(f"floor_share {share}: not [rooms, sum, sum of squares]")
-                rs.floor_share = share
+                    raise ValueError(f"share_sums {share}: not [rooms, sum, sum of squares]")
+                rs.share_sums = share
                 for a, deps in rd.get("sup_dep", {}).items():
                     rs.sup_dep[a] = Counter({k: int(v) for k, v in deps.items()})
                 out.room_types[rtype] = rs
