@@ -85,3 +85,85 @@ def test_a_bat_rests_lying_on_a_face_of_its_round_parts():
     assert any(np.array_equal(sofa, row) for row in table.sizes["sofa"])
     bats = [a for a in library_assets(table) if a.category == "baseball_bat"]
     assert bats and all(a.size[0] > a.size[2] for a in bats)
+
+
+def test_sizes_drawn_as_often_as_the_room_types_objects_had_them(tmp_path):
+    """Counts per size, pooled and per room type: a kitchen draws its counters as
+    kitchens had them, a room type with few of a category draws as every room did, a
+    table without counts, or a category but counters, draws evenly; fits narrows the
+    weighted draw; JSON keeps them."""
+    sizes = np.array([[0.6, 0.5, 0.9], [2.0, 0.6, 0.9], [3.0, 0.7, 0.9]])
+    table = SizeTable(
+        {"counter_top": sizes},
+        counts={"counter_top": np.array([30.0, 60.0, 10.0])},
+        room_counts={
+            "kitchen": {"counter_top": np.array([0.0, 50.0, 10.0])},
+            "bathroom": {"counter_top": np.array([30.0, 0.0, 0.0])},
+            "bedroom": {"counter_top": np.array([0.0, 0.0, 2.0])},  # too few: pooled
+        },
+    )
+
+    def shares(room_type, fits=None, t=table):
+        rng = np.random.default_rng(0)
+        got = [t.draw("counter_top", rng, 0.0, fits=fits, room_type=room_type)[0]
+               for _ in range(3000)]  # fmt: skip
+        return np.array([np.mean(np.isclose(got, w)) for w in sizes[:, 0]])
+
+    np.testing.assert_allclose(shares("kitchen"), [0.0, 5 / 6, 1 / 6], atol=0.03)
+    np.testing.assert_allclose(shares("bathroom"), [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(shares("bedroom"), [0.3, 0.6, 0.1], atol=0.03)
+    np.testing.assert_allclose(shares(None), [0.3, 0.6, 0.1], atol=0.03)
+    even = SizeTable({"counter_top": sizes})
+    np.testing.assert_allclose(shares("kitchen", t=even), [1 / 3] * 3, atol=0.03)
+    # furniture: its observed sizes evenly, whatever the counts
+    sofa = SizeTable({"sofa": sizes}, counts={"sofa": np.array([30.0, 60.0, 10.0])})
+    rng = np.random.default_rng(0)
+    got = [sofa.draw("sofa", rng, 0.0, room_type="living_room")[0] for _ in range(3000)]
+    np.testing.assert_allclose([np.mean(np.isclose(got, w)) for w in sizes[:, 0]], [1 / 3] * 3,
+                               atol=0.03)  # fmt: skip
+    assert sofa.weights("sofa") is None
+    # fits: only the long ones; a bathroom had none of them, so every room's counts
+    long = lambda s: s[:, 0] > 1.0  # noqa: E731
+    np.testing.assert_allclose(shares("bathroom", long), [0.0, 6 / 7, 1 / 7], atol=0.03)
+    assert table.footprint("counter_top") == pytest.approx(2.0 * 0.6)  # the weighted median
+    table.save(tmp_path / "sizes.json")
+    back = SizeTable.load(tmp_path / "sizes.json")
+    np.testing.assert_array_equal(back.counts["counter_top"], [30, 60, 10])
+    np.testing.assert_array_equal(back.room_counts["kitchen"]["counter_top"], [0, 50, 10])
+    for bad_counts in ('{"counter_top": [1, 2]}', '{"counter_top": [1, -2, 3]}',
+                       '{"sofa": [1]}', '[1, 2]'):  # fmt: skip
+        (tmp_path / "bad.json").write_text(
+            '{"format": "pair2scene.sizes", "version": 1, "sizes": {"counter_top": '
+            f'{sizes.tolist()}}}, "counts": {bad_counts}}}'
+        )
+        with pytest.raises(UserError, match="malformed size table counts"):
+            SizeTable.load(tmp_path / "bad.json")
+
+
+def test_counts_from_pairs_count_each_object_once(tmp_path):
+    """A chair in a floor tuple and a functional tuple is one chair; every kept size
+    carries the objects that had it, and the counts sum to the objects."""
+    data = load_pairs(write_synthetic_pairs(tmp_path / "pairs"))
+    table = SizeTable.from_pairs(data)
+    rows = data.split == "train"
+    for cat in table.sizes:
+        ci = data.categories.index(cat)
+        found = zip(data.scene_id[rows], data.dependent.id[rows], data.dependent.category[rows])
+        objects = {(s, i) for s, i, c in found if c == ci}
+        assert table.counts[cat].sum() == len(objects)
+        assert sum(per[cat].sum() for per in table.room_counts.values() if cat in per) == len(
+            objects
+        )
+
+
+def test_bundled_counts_follow_the_training_rooms():
+    """The bundled table draws a kitchen's counters at the kitchens' mean footprint
+    (2.57 m2 over 234 counters; evenly over the observed sizes it was 1.86)."""
+    table = SizeTable.load()
+    sizes = table.sizes["counter_top"]
+    area = sizes[:, 0] * sizes[:, 1]
+    w = table.weights("counter_top", "kitchen")
+    assert 2.3 < (area * w).sum() / w.sum() < 2.8 and w.sum() > 200
+    w = table.weights("counter_top", "bathroom")
+    assert (area * w).sum() / w.sum() < 1.6
+    assert all(len(table.counts[k]) == len(s) for k, s in table.sizes.items())

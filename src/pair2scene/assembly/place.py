@@ -802,7 +802,8 @@ class Placer:
             rng = np.random.default_rng(asset_seed(node.id, seed))
             held = assets.get(item.support) if item.support != FLOOR else None
             if held is not None and hangs_on(node.category, held):  # a towel on its rail
-                size = hung_size(self.sizes.draw(node.category, rng, jitter, fits=draped), held)
+                size = hung_size(self.sizes.draw(node.category, rng, jitter, fits=draped,
+                                                 room_type=hierarchy.room_type), held)  # fmt: skip
                 assets[node.id] = generate(node.category, size, mesh_seed(node.category, size))
                 continue
             margins = [None]
@@ -816,7 +817,8 @@ class Placer:
             for k, margin in enumerate(margins):
                 fits = None if margin is None else surface_fit(held, margin)
                 size = self.sizes.draw(node.category, rng, jitter, fits=fits,
-                                       mounted=on_wall(item.support))  # fmt: skip
+                                       mounted=on_wall(item.support),
+                                       room_type=hierarchy.room_type)  # fmt: skip
                 # An integer seed for the mesh, recorded in scene.json: read back, the
                 # scene rebuilds exactly these shapes (assembly.keep.keep_assets).
                 asset = generate(node.category, size, mesh_seed(node.category, size))
