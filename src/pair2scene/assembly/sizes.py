@@ -73,8 +73,8 @@ docs/model.md, "Counters sized by count")."""
 MIN_ROOM_OBJECTS = 8
 """Objects of a category a room type's training rooms must have held for its sizes to be
 drawn by that room type's counts; fewer, and by every room's (a kitchen's counters are
-drawn as kitchens' were, 2.6 m2 on average against a bathroom's 0.9; a bedroom's single
-armchair as armchairs anywhere)."""
+drawn as the kitchens' 234 were, 2.57 m2 on average, a bathroom's as the bathrooms' 22,
+1.33; a bedroom's, of which the training bedrooms had 1, as counters anywhere)."""
 
 
 @dataclass
@@ -155,9 +155,10 @@ class SizeTable:
         along it than it stands out from it, and an observed size the other way round is
         a source box read a quarter turn off (1 of the 4 towel rails of the training
         rooms, 0.66 m out from its wall; 1 of 10 wall microwaves; 2 of 22 toilet paper
-        holders), so it is turned. Each size is drawn as often as the objects of
-        ``room_type`` had it (:meth:`weights`); among those ``fits`` accepts, by every
-        room's counts when that room type had none of them."""
+        holders), so it is turned. A category of :data:`DRAWN_BY_COUNT` draws each size
+        as often as the objects of ``room_type`` had it (:meth:`weights`; among those
+        ``fits`` accepts, by every room's counts when that room type had none of them);
+        any other, its observed sizes evenly."""
         observed = self._observed(category, mounted)
         w = self.weights(category, room_type, mounted)
         if fits is not None:
@@ -175,10 +176,10 @@ class SizeTable:
         return wider_than_deep(size) if mounted else size
 
     def footprint(self, category: str) -> float:
-        """The median floor area (m2, width x depth) of ``category``'s objects standing
-        on something (its typical size's if the data has none; by its observed sizes
-        alone without counts): what a piece is counted on to cover before its size is
-        drawn."""
+        """The median floor area (m2, width x depth) of ``category``'s observed sizes
+        standing on something, weighted by every room's counts for a category of
+        :data:`DRAWN_BY_COUNT` (its typical size's if the data has none): what a piece is
+        counted on to cover before its size is drawn."""
         observed = self._observed(category)
         area = observed[:, 0] * observed[:, 1]
         w = self.weights(category)
