@@ -255,7 +255,8 @@ class Pair2Scene:
             room_obj = make_room(hierarchy.room_type, np.random.default_rng([seed, 1]),
                                  self.rooms, furniture,
                                  self.stats.room_type(hierarchy.room_type), dressings,
-                                 dressings if text is not None and dressings else None)  # fmt: skip
+                                 dressings if text is not None and dressings else None,
+                                 sized=text is None)  # fmt: skip
         else:
             room_obj = partial.room
             kept_assets = keep.assets

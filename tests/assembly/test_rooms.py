@@ -294,3 +294,22 @@ def test_bundled_statistics_size_rooms_like_the_training_rooms():
         mean, sd = rs.share_normal()
         assert rs.share_sums[0] > 0.8 * rs.rooms and -2.0 < mean < -1.0 and 0.2 < sd < 0.7
     assert stats.room_type("office").share_normal() is not None  # a composed type's bases
+
+
+def test_a_text_room_is_not_sized_for_the_furniture_it_names():
+    """``sized=False`` (a text request) draws among the rooms large enough by count alone,
+    as statistics without the share do; sized, the same furniture gets smaller rooms."""
+    from pair2scene.curation.stats import RoomTypeStats
+
+    rs = RoomTypeStats()
+    rs.floor_shapes = _shapes_by_area([8.0, 12.0, 16.0, 24.0, 32.0, 48.0])
+    logs = np.log([0.2, 0.3])
+    rs.share_sums = [2.0, float(logs.sum()), float((logs**2).sum())]
+    plain = RoomTypeStats(floor_shapes=rs.floor_shapes)
+
+    def areas(stats, sized):
+        return [make_room("living_room", np.random.default_rng(s), furniture_m2=2.5,
+                          stats=stats, sized=sized).area for s in range(60)]  # fmt: skip
+
+    assert areas(rs, False) == areas(plain, True)
+    assert np.median(areas(rs, True)) < np.median(areas(rs, False))

@@ -129,6 +129,7 @@ def make_room(
     stats: RoomTypeStats | None = None,
     min_windows: int = 0,
     max_windows: int | None = None,
+    sized: bool = True,
 ) -> Room:
     """A room of a training room's shape and height (:func:`draw_floor`; a rectangle of
     ``table``'s sizes when ``stats`` has no shapes), with room for ``furniture_m2`` of
@@ -139,11 +140,13 @@ def make_room(
     shape and door do not depend on them; ``min_windows``: at least that many (one for
     each curtains or blinds the room is to hold), as far as its walls have room;
     ``max_windows``: at most that many (a text's "curtains on the windows": no window
-    left bare)."""
+    left bare). ``sized`` False: any training room large enough, by count alone (a text
+    names what a room must hold, not all it holds: "a living room with a sofa" sized for
+    the sofa alone would be the smallest living room)."""
     min_area = furniture_m2 / MAX_FLOOR_SHARE
     if stats is not None and stats.floor_shapes:
         polygon, h = draw_floor(stats.floor_shapes, rng, min_area, furniture_m2,
-                                stats.share_normal())  # fmt: skip
+                                stats.share_normal() if sized else None)  # fmt: skip
     else:
         table = RoomTable.load() if table is None else table
         w, d, h = table.draw(room_type, rng, min_area)
