@@ -327,13 +327,18 @@ def floor_overlaps(placed: list[SceneObject]) -> Counter[str]:
     return Counter(overlap_key(floor[i].category, floor[j].category) for i, j in pairs)
 
 
-def furniture_share(room: Room, placed: Iterable[SceneObject]) -> float:
-    """How much of ``room``'s floor the footprints (box width x depth) of the objects of
-    ``placed`` standing on the floor cover, summed (0 for a room without floor area)."""
+def footprint_share(room: Room, objects: Iterable[SceneObject]) -> float:
+    """How much of ``room``'s floor the footprints (box width x depth) of ``objects``
+    cover, summed (overlaps counted twice; 0 for a room without floor area)."""
     area = abs(room.area)
     if area <= 0:
         return 0.0
-    return sum(float(o.box.size[0] * o.box.size[1]) for o in placed if o.support == FLOOR) / area
+    return sum(float(o.box.size[0] * o.box.size[1]) for o in objects) / area
+
+
+def furniture_share(room: Room, placed: Iterable[SceneObject]) -> float:
+    """:func:`footprint_share` of the objects of ``placed`` standing on the floor."""
+    return footprint_share(room, (o for o in placed if o.support == FLOOR))
 
 
 def floor_shape(room: Room) -> tuple[float, ...]:

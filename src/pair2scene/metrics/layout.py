@@ -59,7 +59,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from pair2scene.categories import BY_NAME, SuperCategory
-from pair2scene.curation.stats import askew_bin, one_over_another
+from pair2scene.curation.stats import askew_bin, footprint_share, one_over_another
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Scene, SceneObject
 from pair2scene.scene.relations import (
@@ -278,10 +278,9 @@ def floor_isolated(scene: Scene) -> list[int]:
 def floor_share(scene: Scene) -> float | None:
     """How much of the room's floor its floor objects' footprints cover (box width x depth,
     summed; overlaps counted twice); None for a room without floor area."""
-    area = abs(scene.room.area)
-    if area <= 0:
+    if abs(scene.room.area) <= 0:
         return None
-    return sum(float(o.box.size[0] * o.box.size[1]) for o in _floor_objects(scene)) / area
+    return footprint_share(scene.room, _floor_objects(scene))
 
 
 def rooms_by_share(scene: Scene) -> tuple[list[int], list[int]]:
