@@ -105,7 +105,7 @@ def test_the_library_gives_one_mesh_per_observed_size(tmp_path, monkeypatch):
     assert len(seen) < sum(len(p2s.generate(room="bedroom", seed=s).assets) for s in range(4))
     bed = next(a for a in p2s.generate(room="bedroom", seed=0).assets.values()
                if a.category == "bed")  # fmt: skip
-    observed = sizes._observed("bed")
+    observed = sizes.observed("bed")
     assert np.isclose(observed, bed.size).all(1).any()
     assert bed.extra["seed"] == library_seed("bed", bed.size)
 

@@ -126,7 +126,7 @@ class SizeTable:
         return out
 
     def weights(self, category: str, room_type: str | None = None, mounted: bool = False):
-        """(K,) how often each of :meth:`_observed`'s sizes is drawn, for a category of
+        """(K,) how often each of :meth:`observed`'s sizes is drawn, for a category of
         :data:`DRAWN_BY_COUNT`: the room type's counts where its rooms held
         :data:`MIN_ROOM_OBJECTS` of the category, else every room's; None (evenly) for
         any other category, or without counts."""
@@ -159,7 +159,7 @@ class SizeTable:
         as often as the objects of ``room_type`` had it (:meth:`weights`; among those
         ``fits`` accepts, by every room's counts when that room type had none of them);
         any other, its observed sizes evenly."""
-        observed = self._observed(category, mounted)
+        observed = self.observed(category, mounted)
         w = self.weights(category, room_type, mounted)
         if fits is not None:
             ok = fits(observed)
@@ -180,7 +180,7 @@ class SizeTable:
         standing on something, weighted by every room's counts for a category of
         :data:`DRAWN_BY_COUNT` (its typical size's if the data has none): what a piece is
         counted on to cover before its size is drawn."""
-        observed = self._observed(category)
+        observed = self.observed(category)
         area = observed[:, 0] * observed[:, 1]
         w = self.weights(category)
         if w is None or w.sum() <= 0 or len(w) != len(area):
@@ -189,7 +189,7 @@ class SizeTable:
         cumulative = np.cumsum(w[order]) / w.sum()
         return float(area[order][np.searchsorted(cumulative, 0.5)])
 
-    def _observed(self, category: str, mounted: bool = False) -> np.ndarray:
+    def observed(self, category: str, mounted: bool = False) -> np.ndarray:
         """(K, 3) sizes of ``category`` (hung on a wall: of those, when the data had
         such; else as it rests, :func:`resting_sizes`), or its typical size's (1, 3) when
         the data has none."""

@@ -376,7 +376,11 @@ def expand(
     never added; the floor is never expanded here. A pass that adds nothing doubles k (up
     to :data:`MAX_K_BOOST` times). Categories in ``once`` are offered on the first pass
     only (``beyond``'s fixtures: a counter takes its sink at the training rate once, where
-    later passes, boosted, had put 15 sinks on the counters of a 500-object bathroom)."""
+    later passes, boosted, had put 15 sinks on the counters of a 500-object bathroom).
+
+    A pass draws its nodes' dependents a generation at a time (the first pass goes on to
+    the dependents it added); when a generation draws more than the target leaves room
+    for, it keeps a random share of them (:func:`_keep_some`), not the first in the queue."""
     boost = 1.0
     for done in range(passes):
         if len(h) >= target:
@@ -384,23 +388,22 @@ def expand(
         if done == 1:
             skip = skip | once
         before = len(h)
-        queue = [n for n in h.nodes if n.id not in fixed]
-        head = 0
-        while head < len(queue) and len(h) < target:
-            anchor = queue[head]
-            head += 1
-            candidates = [c for c in stats.dependents(anchor.category) if c[0] not in skip]
-            for i in rng.permutation(len(candidates)):
-                cat, rate = candidates[i]
-                # (never more copies than the target: a huge k stays a finite count)
-                for _ in range(_stochastic_round(min(k * boost * rate, target), rng)):
-                    if len(h) >= target:
-                        break
-                    siblings = h.children(anchor.id)
-                    func = stats.functional_choice(anchor.category, cat, siblings, rng)
-                    node = h.add(cat, anchor.id, None if func is None else func.id)
-                    if done == 0:
-                        queue.append(node)
+        generation = [n for n in h.nodes if n.id not in fixed]
+        while generation and len(h) < target:
+            room = target - len(h)
+            drawn: list[tuple[Node, str]] = []  # (anchor, category) of each copy drawn
+            for anchor in generation:
+                candidates = [c for c in stats.dependents(anchor.category) if c[0] not in skip]
+                for i in rng.permutation(len(candidates)):
+                    cat, rate = candidates[i]
+                    # (never more copies than there is room for: a huge k stays a finite count)
+                    copies = _stochastic_round(min(k * boost * rate, room), rng)
+                    drawn += [(anchor, cat)] * copies
+            added = []
+            for anchor, cat in _keep_some(drawn, room, rng):
+                func = stats.functional_choice(anchor.category, cat, h.children(anchor.id), rng)
+                added.append(h.add(cat, anchor.id, None if func is None else func.id))
+            generation = added if done == 0 else []
         if len(h) == before:
             offered = (
                 c for n in h.nodes if n.id not in fixed for c in stats.dependents(n.category)
@@ -409,6 +412,26 @@ def expand(
                 return done + 1
             boost = min(2 * boost, MAX_K_BOOST)
     return passes
+
+
+def _keep_some(drawn: list, room: int, rng: np.random.Generator) -> list:
+    """``drawn`` (the (anchor, category) of each dependent drawn), in its order, cut to a
+    random ``room`` of them when it holds more. Cut in queue order, as Algorithm 1 is, the
+    anchors met first kept all they drew and the last ones nothing: a TV stand (sorted
+    after the sofa and the tables) held a television in 0.68 of 200 living-room
+    hierarchies where 0.93 of the training rooms' stands do (0.89 in the training rooms
+    with the fewest objects, 5-20), while beds, met first, held a book in 0.39 (train
+    0.26). Cut at random, 0.83 and 0.28; over the (support, dependent) pairs held by at
+    least a tenth of their supports in the training rooms, the mean gap between the share
+    of supports holding one in the hierarchies and in the training rooms went 0.074 ->
+    0.060 (bedrooms), 0.065 -> 0.056 (living rooms), 0.060 -> 0.051 (kitchens), 0.235 ->
+    0.219 (bathrooms). Keeping the likeliest copies first (a dependent of rate r, its
+    j-th copy by min(r - j, 1)) put a television on 0.99 of the stands but widened the
+    gaps (0.077 / 0.071 / 0.074 / 0.231): the ones of middling rate crowded out the
+    rest."""
+    if len(drawn) <= room:
+        return drawn
+    return [drawn[i] for i in sorted(rng.permutation(len(drawn))[:room])]
 
 
 def synthesize(
