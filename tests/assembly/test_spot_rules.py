@@ -335,3 +335,41 @@ def test_an_object_drawn_only_the_other_way_is_still_placed():
     assert result.stats.rejections == {"crosswise": 16}  # then tried again either way
     boxes = {o.category: o.box for o in result.scene.objects}
     assert not parallel(boxes["remote_control"].in_frame_of(boxes["tv_stand"]).yaw)
+
+
+class _CornerStand(_Stand):
+    """:class:`_Stand` with the stand in the room's north-east corner, its east end flush
+    against the east wall."""
+
+    def draw(self, query, n, temperature, generator):
+        if query.category == "tv_stand":
+            corner = OrientedBox.from_yaw([6.0 - STAND_SIZE[0] / 2, 4.7, 0.275], STAND_SIZE,
+                                          np.pi)  # fmt: skip
+            return np.repeat(corner.to_vector()[None], n, axis=0), None
+        return super().draw(query, n, temperature, generator)
+
+
+def test_a_television_wider_than_its_stand_in_a_corner_is_drawn_narrower():
+    """A television may overhang its stand's ends as the training rooms' did; where one
+    end stands against a wall it cannot, and one drawn that wide is drawn again among the
+    sizes that clear the wall centred (it had been dropped after every candidate reached
+    through the wall). Mid-wall the wide ones stay."""
+    h, assets = _tv_on_stand()
+    stand = {k: a for k, a in assets.items() if a.category == "tv_stand"}
+    sizes = SizeTable({"television": np.array([[w, 0.2, 0.6] for w in np.linspace(0.8, 1.9, 12)])})
+    wide = SpotRules(
+        {"television": {"tv_stand": SpotGeometry(50, 1.0, (0, 0), (0, 0), (1.1, 0.2))}}
+    )
+    widths = {}
+    for name, model in (("corner", _CornerStand(off=0)), ("mid-wall", _Stand(off=0))):
+        placer = Placer(model, sizes, _config(), spots=wide)
+        widths[name] = []
+        for seed in range(24):
+            result = placer.place(h, ROOM, seed=seed, assets=placer.assets_for(h, seed, stand))
+            assert not result.stats.dropped, (name, seed, result.stats.dropped)
+            tv = next(o for o in result.scene.objects if o.category == "television")
+            assert tv.box.corners()[:, 0].max() <= 6.0 + 1e-6
+            widths[name].append(tv.box.size[0])
+    assert max(widths["corner"]) <= STAND_SIZE[0] + 1e-6
+    assert max(widths["mid-wall"]) > STAND_SIZE[0] + 0.1
+    assert sum(w > STAND_SIZE[0] for w in widths["mid-wall"]) >= 4

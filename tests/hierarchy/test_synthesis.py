@@ -363,3 +363,41 @@ def test_a_templates_chairs_sit_at_its_table_as_in_its_rooms():
             seated[own][sum(1 for a in h.functional.values() if a == "dining_table_0")] += 1
     assert set(seated[True]) == {0, 4} and min(seated[True].values()) > 60, seated[True]
     assert sum(seated[False][k] for k in (1, 2, 3)) > 100, seated[False]
+
+
+def test_a_full_room_cuts_its_draws_at_random_not_in_queue_order(stats):
+    """Room for one dependent between a dining table (first in the queue) and a TV stand:
+    cut in queue order, the table took it whenever it drew anything (a living room's table
+    draws 4.3 objects on average); cut at random, the stand takes it in proportion to what
+    it drew (its television alone at 0.93)."""
+    from pair2scene.hierarchy.synthesis import expand
+    from pair2scene.hierarchy.tree import Hierarchy
+
+    st, _ = Statistics.for_room(stats, "living_room")
+    on = Counter()
+    for seed in range(200):
+        h = Hierarchy("living_room")
+        h.add("dining_table", FLOOR, None)
+        h.add("tv_stand", FLOOR, None)
+        expand(h, st, len(h) + 1, np.random.default_rng(seed), passes=1)
+        assert len(h) == 3
+        on[h.support[h.nodes[-1].id]] += 1
+    assert on["tv_stand_0"] >= 30, on
+    assert on["dining_table_0"] >= 60, on
+
+
+def test_room_for_every_draw_keeps_them_all(stats):
+    """The cut only cuts: with room to spare a pass adds what it drew, each generation's
+    dependents after the one before (objects in a box on a shelf: the box first)."""
+    from pair2scene.hierarchy.synthesis import expand
+    from pair2scene.hierarchy.tree import Hierarchy
+
+    st, _ = Statistics.for_room(stats, "living_room")
+    h = Hierarchy("living_room")
+    h.add("dining_table", FLOOR, None)
+    h.add("tv_stand", FLOOR, None)
+    expand(h, st, 500, np.random.default_rng(0), passes=1)
+    assert 2 < len(h) < 500
+    at = {n.id: i for i, n in enumerate(h.nodes)}
+    for n in h.nodes[2:]:
+        assert at[h.support[n.id]] < at[n.id]
