@@ -814,9 +814,8 @@ class Placer:
                 continue
             margins = [None]
             if held is not None:
-                margins = [FIT_MARGIN]
-                if self._overhang(node.category, held) is not None:
-                    margins.insert(0, self._overhang(node.category, held))
+                overhang = self._overhang(node.category, held)
+                margins = [FIT_MARGIN] if overhang is None else [overhang, FIT_MARGIN]
             for k, margin in enumerate(margins):
                 fits = None if margin is None else surface_fit(held, margin)
                 asset = self._draw_asset(node.category, item.support, held, fits, rng, jitter,

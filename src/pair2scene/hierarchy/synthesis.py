@@ -20,7 +20,9 @@
    (:class:`Statistics`). Each added node gets a functional anchor among the objects
    already on the same support with the functional statistics' frequencies, and joins
    the queue.
-3. **Cap**: at most ``N_max`` objects, and never more than :data:`MAX_OBJECTS_LIMIT`
+3. **Cap**: at most ``N_max`` objects (when a generation of the queue draws more than
+   that leaves room for, a random share of its draws is kept, not the first ones in the
+   queue: :func:`_keep_some`), and never more than :data:`MAX_OBJECTS_LIMIT`
    (``max_objects`` above it is a UserError; a count drawn from statistics of your own
    above it is cut, with a note).
 
