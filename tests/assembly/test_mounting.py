@@ -13,6 +13,7 @@ from pair2scene.assembly.mounting import (
     MountHeights,
     clear_of_windows,
     dress_window,
+    dressing_share,
     fitted_dressing,
     hang,
     hang_over,
@@ -496,3 +497,65 @@ def test_placement_hangs_mounted_objects_only_within_their_band():
     free = loose.place(h.validate(), ROOM, seed=0)
     assert "off_height" not in free.stats.rejections
     assert any(not 1.6 <= o.box.center[2] <= 1.9 for o in free.scene.objects)
+
+
+def test_two_windows_on_a_wall_share_it_and_each_keeps_its_curtains():
+    """Curtains 2.4 m wide at two windows 0.4 m apart on one wall: each window's curtains
+    may reach halfway to the other; the first ones hung cut, the second cut beside them
+    (before, the first covered part of the second window and the second collided)."""
+    left = Opening("window", (1.4, 5.0), (0.2, 5.0), 0.9, 2.0)  # (wall 2 runs to -x)
+    right = Opening("window", (3.0, 5.0), (1.8, 5.0), 0.9, 2.0)
+    room = Room("living_room", SQUARE, 2.6, (DOOR,), (right, left))
+    wall = WALLS[2]
+    ends = sorted([*wall.span(right.p0, right.p1), *wall.span(left.p0, left.p1)])
+    mid = (ends[1] + ends[2]) / 2  # halfway between the two windows' facing frames
+    shares = sorted([*dressing_share(right, wall, room), *dressing_share(left, wall, room)])
+    assert shares == pytest.approx([-2.0, mid - 0.01, mid + 0.01, 2.0])
+    assert dressing_share(WINDOW, wall, ROOM) == pytest.approx((-2.0, 2.0))  # alone: all
+    hung = []
+    for window in (right, left):
+        full = dress_window(window, wall, np.array([2.4, 0.1, 2.0]), 2.6, 0.05)
+        share = dressing_share(window, wall, room)
+        lo, hi = wall.extent(full)
+        assert lo < share[0] or hi > share[1]  # 2.4 m reach past halfway
+        cut = fitted_dressing(window, wall, full, room, [], hung)
+        lo, hi = wall.extent(cut)
+        span = wall.span(window.p0, window.p1)
+        assert lo <= span[0] and hi >= span[1]  # still covers its window
+        assert share[0] - 1e-9 <= lo and hi <= share[1] + 1e-9
+        for other in hung:
+            o_lo, o_hi = wall.extent(other)
+            assert hi <= o_lo or lo >= o_hi  # side by side, not over each other
+        hung.append(cut)
+
+
+def test_curtains_wider_than_a_short_wall_are_cut_to_it():
+    """The short wall of an L-shaped room, 1.2 m: 2.6 m curtains at its window are cut to
+    the wall's ends (they had stood out past both, ``off_wall``)."""
+    ell = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 1.2], [4.0, 1.2], [4.0, 4.0], [0.0, 4.0]])
+    walls = walls_of(ell)
+    short = walls[2]  # (3, 1.2) -> (4, 1.2)
+    window = Opening("window", (3.3, 1.2), (3.7, 1.2), 0.9, 2.0)
+    room = Room("living_room", ell, 2.6, (), (window,))
+    full = dress_window(window, short, np.array([2.6, 0.1, 2.0]), 2.6, 0.05)
+    lo, hi = short.extent(full)
+    assert hi - lo > short.length
+    cut = fitted_dressing(window, short, full, room, [])
+    lo, hi = short.extent(cut)
+    assert lo >= -short.length / 2 - 1e-9 and hi <= short.length / 2 + 1e-9
+    assert hi - lo == pytest.approx(short.length)
+
+
+def test_short_curtains_at_a_floor_length_window_are_cut_clear_of_a_door():
+    """Curtains 1.4 m tall hang from above a window that reaches down to the floor: their
+    bottom stands above its sill by their own height, not by furniture, and they are still
+    cut clear of the door beside the window (the cut had been refused, and the uncut
+    curtains rejected for covering the door)."""
+    window = Opening("window", (2.1, 0.0), (3.0, 0.0), 0.02, 2.0)
+    room = Room("living_room", SQUARE, 2.6, (DOOR,), (window,))
+    full = dress_window(window, WALLS[0], np.array([2.0, 0.1, 1.4]), 2.6, 0.05)
+    assert full.bottom > window.z_min + SILL_COVER_M
+    assert mount_blocked(full, WALLS[0], room, True, []) == "door"
+    cut = fitted_dressing(window, WALLS[0], full, room, [])
+    assert cut is not None and mount_blocked(cut, WALLS[0], room, True, []) is None
+    assert cut.bottom == pytest.approx(full.bottom)

@@ -33,6 +33,7 @@ curtains do, and clear of the door's frame.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,6 +59,8 @@ SILL_COVER_M = 0.15
 sill: they cover the window (a sideboard taller than that leaves it undressed)."""
 DRESSING_MIN_WIDTH_M = 0.3
 """Narrower than this, curtains cut to clear a door are not hung."""
+DRESSING_GAP_M = 0.02
+"""Wall left between curtains cut to clear the curtains of the next window and those."""
 BEHIND_DEPTH_M = AGAINST_GAP_M + 0.15
 """A floor object whose back is this close to a wall stands against it: a mounted object
 reaching below its top there would be hidden behind it."""
@@ -209,14 +212,43 @@ def dress_window(
     return hang(wall, along, z, size)
 
 
+def dressing_share(window: Opening, wall: Wall, room: Room) -> tuple[float, float]:
+    """(lo, hi) along ``wall`` (from its midpoint) that the curtains or blinds of ``window``
+    may cover: up to halfway to the next window on the wall either side, less half of
+    :data:`DRESSING_GAP_M` (the whole wall without one), so each window of a wall keeps
+    room for its own."""
+    span = wall.span(window.p0, window.p1)
+    lo, hi = -wall.length / 2, wall.length / 2
+    if span is None:
+        return lo, hi
+    for other in room.windows:
+        if other is window:
+            continue
+        theirs = wall.span(other.p0, other.p1)
+        if theirs is None:
+            continue
+        if theirs[1] <= span[0]:
+            lo = max(lo, (theirs[1] + span[0] + DRESSING_GAP_M) / 2)
+        elif theirs[0] >= span[1]:
+            hi = min(hi, (span[1] + theirs[0] - DRESSING_GAP_M) / 2)
+    return lo, hi
+
+
 def fitted_dressing(
-    window: Opening, wall: Wall, box: OrientedBox, room: Room, floor_boxes: list[OrientedBox]
+    window: Opening,
+    wall: Wall,
+    box: OrientedBox,
+    room: Room,
+    floor_boxes: list[OrientedBox],
+    hung: Sequence[OrientedBox] = (),
 ) -> OrientedBox | None:
     """``box`` (curtains or blinds :func:`dress_window` hung at ``window``) cut to what the
     window leaves them: its bottom above the furniture standing in front of it (at most
-    :data:`SILL_COVER_M` above the sill), its sides :data:`DOOR_MARGIN_M` clear of a door
-    beside the window (still covering the window, at least :data:`DRESSING_MIN_WIDTH_M`
-    wide).
+    :data:`SILL_COVER_M` above the sill), its sides within the wall's ends (the short wall
+    of an L-shaped room) and the window's :func:`dressing_share` of the wall,
+    :data:`DOOR_MARGIN_M` clear of a door beside the window and :data:`DRESSING_GAP_M`
+    clear of the dressings ``hung`` beside it (still covering the window, at least
+    :data:`DRESSING_MIN_WIDTH_M` wide).
     None when nothing needs cutting or no cut fits."""
     span = wall.span(window.p0, window.p1)
     if span is None:
@@ -224,7 +256,8 @@ def fitted_dressing(
     size = np.asarray(box.size, float)
     top = float(box.top)
     along = float(wall.local(box.center[:2])[0])
-    lo, hi = along - size[0] / 2, along + size[0] / 2
+    lo = max(along - size[0] / 2, -wall.length / 2)
+    hi = min(along + size[0] / 2, wall.length / 2)
     for a, b, _, z_max, _ in wall_openings(wall, room.doors):
         if box.bottom >= z_max + DOOR_MARGIN_M:
             continue
@@ -232,6 +265,17 @@ def fitted_dressing(
             lo = b + DOOR_MARGIN_M + 1e-4
         if a - DOOR_MARGIN_M < hi and a >= span[1]:  # and to its right
             hi = a - DOOR_MARGIN_M - 1e-4
+    share = dressing_share(window, wall, room)
+    lo, hi = max(lo, share[0]), min(hi, share[1])
+    for other in hung:
+        a, b = wall.extent(other)
+        near = wall.local(other.corners()[:, :2])[:, 1].min() < size[1] + DRESSING_GAP_M
+        if not near or other.bottom >= top or other.top <= box.bottom:
+            continue  # on another wall, or above or below it
+        if b + DRESSING_GAP_M > lo and b <= span[0]:  # curtains at the window to the left
+            lo = b + DRESSING_GAP_M
+        if a - DRESSING_GAP_M < hi and a >= span[1]:  # and to the right
+            hi = a - DRESSING_GAP_M
     if lo > span[0] + 1e-9 or hi < span[1] - 1e-9 or hi - lo < DRESSING_MIN_WIDTH_M:
         return None  # a door at the window's very edge: it cannot be covered
     bottom = float(box.bottom)
@@ -241,8 +285,8 @@ def fitted_dressing(
         if fc[:, 1].min() >= depth or fc[:, 0].max() <= lo or fc[:, 0].min() >= hi:
             continue
         bottom = max(bottom, float(f.top) + 2 * MOUNT_GAP_M)
-    if bottom > float(window.z_min) + SILL_COVER_M:
-        return None
+    if bottom > float(box.bottom) + 1e-9 and bottom > float(window.z_min) + SILL_COVER_M:
+        return None  # (raised by furniture: curtains short of a tall window may hang)
     if bottom <= box.bottom + 1e-9 and hi - lo >= size[0] - 1e-9:
         return None  # the full dressing: nothing to cut
     cut = np.array([hi - lo, size[1], top - bottom])

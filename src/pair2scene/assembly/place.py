@@ -61,6 +61,7 @@ from pair2scene.assembly.mounting import (
     covered_shares,
     crowds,
     dress_window,
+    dressing_share,
     fitted_dressing,
     hang_over,
     mount,
@@ -1441,6 +1442,7 @@ class Placer:
         rng = np.random.default_rng([asset_seed(node.id, seed), 191])
         if node.category in WINDOW_DRESSINGS:
             floor = _floor_boxes(placed)
+            hung = [p.box for p in placed.values() if p.asset.category in WINDOW_DRESSINGS]
             out = []
             for i, window in enumerate(room.windows):
                 if i in dressed:
@@ -1452,9 +1454,12 @@ class Placer:
                                        self.config.ceiling_margin_m)  # fmt: skip
                     if box is None:
                         continue
-                    out.append((None, _Dressing(wall, i, box)))
-                    cut = fitted_dressing(window, wall, box, room, floor)
-                    if cut is not None:  # furniture under the window, a door beside it
+                    share = dressing_share(window, wall, room)
+                    lo, hi = wall.extent(box)
+                    if lo >= share[0] - 1e-9 and hi <= share[1] + 1e-9:  # (else: cut only)
+                        out.append((None, _Dressing(wall, i, box)))
+                    cut = fitted_dressing(window, wall, box, room, floor, hung)
+                    if cut is not None:  # furniture under it, a door or curtains beside it
                         out.append((None, _Dressing(wall, i, cut)))
             return out
         anchor = None if query.functional is None else query.functional.box

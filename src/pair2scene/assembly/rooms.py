@@ -143,8 +143,10 @@ def make_room(
     left bare). ``sized`` False: any training room large enough, by count alone, as for a
     text request, whose named objects must all be placed: sized for its furniture, issue
     19's "a living room with a sofa, a painting above the sofa and curtains on the
-    windows" lost a curtain in 5 of seeds 0-39 (it collided with furniture against the
-    window's wall in the smaller room), drawn by count in 1."""
+    windows" lost a curtain in 5 of seeds 0-39 (two windows on one wall, a door or the
+    short wall of an L-shaped room beside a window; curtains are cut to fit since:
+    :func:`~pair2scene.assembly.mounting.fitted_dressing`) and still loses its painting
+    in 2 (the windows take the sofa's wall); drawn by count, none."""
     min_area = furniture_m2 / MAX_FLOOR_SHARE
     if stats is not None and stats.floor_shapes:
         polygon, h = draw_floor(stats.floor_shapes, rng, min_area, furniture_m2,
