@@ -58,9 +58,10 @@ SILL_COVER_M = 0.15
 """Curtains and blinds cut short above furniture still reach this close to their window's
 sill: they cover the window (a sideboard taller than that leaves it undressed)."""
 DRESSING_MIN_WIDTH_M = 0.3
-"""Narrower than this, curtains cut to clear a door are not hung."""
+"""Narrower than this, curtains cut to fit (:func:`fitted_dressing`) are not hung."""
 DRESSING_GAP_M = 0.02
-"""Wall left between curtains cut to clear the curtains of the next window and those."""
+"""Wall left bare between the curtains of two windows of one wall (:func:`dressing_share`,
+:func:`fitted_dressing`)."""
 BEHIND_DEPTH_M = AGAINST_GAP_M + 0.15
 """A floor object whose back is this close to a wall stands against it: a mounted object
 reaching below its top there would be hidden behind it."""
