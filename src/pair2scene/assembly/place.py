@@ -788,14 +788,6 @@ class Placer:
         (:attr:`AssemblyConfig.matching`)."""
         from pair2scene.assets.registry import generate
 
-        library = self.config.asset_library
-        jitter = 0.0 if library else JITTER
-
-        def mesh_seed(category: str, size, variant: int = 0) -> int:
-            if library:
-                return library_seed(category, size, variant)
-            return int(rng.integers(2**31))
-
         assets: dict[str, Asset] = dict(given or {})
         models: dict[str, Asset | None] = {}  # floor category -> the room's one model of it
         for item in hierarchy.sequence():
@@ -807,9 +799,10 @@ class Placer:
                     assets[node.id] = models[node.category]
                     continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
+            mesh_seed = self._mesh_seeds(rng)
             held = assets.get(item.support) if item.support != FLOOR else None
             if held is not None and hangs_on(node.category, held):  # a towel on its rail
-                size = hung_size(self.sizes.draw(node.category, rng, jitter, fits=draped,
+                size = hung_size(self.sizes.draw(node.category, rng, self._jitter, fits=draped,
                                                  room_type=hierarchy.room_type), held)  # fmt: skip
                 assets[node.id] = generate(node.category, size, mesh_seed(node.category, size))
                 continue
@@ -819,8 +812,8 @@ class Placer:
                 margins = [FIT_MARGIN] if overhang is None else [overhang, FIT_MARGIN]
             for k, margin in enumerate(margins):
                 fits = None if margin is None else surface_fit(held, margin)
-                asset = self._draw_asset(node.category, item.support, held, fits, rng, jitter,
-                                         mesh_seed, hierarchy.room_type)  # fmt: skip
+                asset = self._draw_asset(node.category, item.support, held, fits, rng,
+                                         hierarchy.room_type)  # fmt: skip
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:
                     break  # (one drawn wider than its support can carry: as narrow as any)
             assets[node.id] = asset
@@ -840,16 +833,31 @@ class Placer:
         rule = self.spots.rule(category, held.category)
         return rule.overhang if rule is not None and rule.overhang > FIT_MARGIN else None
 
+    @property
+    def _jitter(self) -> float:
+        """The jitter of a drawn size: none for the asset library, whose assets are the
+        observed sizes."""
+        return 0.0 if self.config.asset_library else JITTER
+
+    def _mesh_seeds(self, rng: np.random.Generator):
+        """How an object's mesh is seeded, ``(category, size, variant=0) -> int``: by its
+        category and size for the asset library (:func:`library_seed`), else drawn from
+        ``rng``."""
+        if self.config.asset_library:
+            return library_seed
+        return lambda category, size, variant=0: int(rng.integers(2**31))
+
     def _draw_asset(
         self, category: str, support: str, held: Asset | None, fits,
-        rng: np.random.Generator, jitter: float, mesh_seed, room_type: str | None,
+        rng: np.random.Generator, room_type: str | None,
     ) -> Asset:  # fmt: skip
         """An asset of ``category`` on ``support`` (``held``: its asset, if an object), of a
-        size drawn among those ``fits`` accepts (:meth:`SizeTable.draw
+        size drawn with ``rng`` among those ``fits`` accepts (:meth:`SizeTable.draw
         <pair2scene.assembly.sizes.SizeTable.draw>`), in the style it is placed in."""
         from pair2scene.assets.registry import generate
 
-        size = self.sizes.draw(category, rng, jitter, fits=fits, mounted=on_wall(support),
+        mesh_seed = self._mesh_seeds(rng)
+        size = self.sizes.draw(category, rng, self._jitter, fits=fits, mounted=on_wall(support),
                                room_type=room_type)  # fmt: skip
         # An integer seed for the mesh, recorded in scene.json: read back, the scene
         # rebuilds exactly these shapes (assembly.keep.keep_assets).
@@ -885,13 +893,7 @@ class Placer:
         if not fits(self.sizes.observed(node.category)).any():
             return asset
         rng = np.random.default_rng([asset_seed(node.id, seed), WALLED_SALT])
-        library = self.config.asset_library
-
-        def mesh_seed(category: str, size, variant: int = 0) -> int:
-            return library_seed(category, size, variant) if library else int(rng.integers(2**31))
-
-        return self._draw_asset(node.category, support, sp.asset, fits, rng,
-                                0.0 if library else JITTER, mesh_seed, None)  # fmt: skip
+        return self._draw_asset(node.category, support, sp.asset, fits, rng, None)
 
     def place(
         self,
@@ -1016,7 +1018,6 @@ class Placer:
             elif item.support != FLOOR and not mounted and cfg.reject and cfg.gravity:
                 asset = self._walled_in(node, asset, item.support, placed[item.support], room,
                                         seed)  # fmt: skip
-                assets[node.id] = asset
                 too_big = no_room_on(asset, placed[item.support].asset)
                 if too_big is not None:  # no candidate could rest: do not draw 256
                     stats.dropped.append(
