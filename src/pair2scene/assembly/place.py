@@ -101,7 +101,7 @@ from pair2scene.curation.stats import ASKEW_BINS_DEG, split_member
 from pair2scene.curation.support import HANGER_CATEGORIES
 from pair2scene.errors import UserError, check_ranges
 from pair2scene.hierarchy.tree import Hierarchy
-from pair2scene.scene.geometry import OrientedBox, yaw_to_matrix
+from pair2scene.scene.geometry import OrientedBox, matrix_to_yaw, sixd_x_axis, yaw_to_matrix
 from pair2scene.scene.model import (
     FLOOR,
     AssetRef,
@@ -620,7 +620,14 @@ class _Placed:
 def upright(box: OrientedBox, reference_yaw: float = 0.0, snap_deg: float = 0.0) -> OrientedBox:
     """The box turned upright about its centre, its yaw kept (from the x axis's heading);
     a yaw within ``snap_deg`` of ``reference_yaw`` + k * 90 degrees is snapped onto it."""
-    x = box.rotation[:, 0]
+    yaw = upright_yaw(box.rotation[:, 0], reference_yaw, snap_deg)
+    return OrientedBox(box.center, box.size, yaw_to_matrix(yaw))
+
+
+def upright_yaw(x_axis: np.ndarray, reference_yaw: float = 0.0, snap_deg: float = 0.0) -> float:
+    """:func:`upright`'s yaw of a box whose local +x axis is ``x_axis`` (3,): its heading
+    (0 for an axis straight up or down), snapped as there."""
+    x = x_axis
     yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
     if snap_deg > 0:
         quarter = np.pi / 2
@@ -628,7 +635,7 @@ def upright(box: OrientedBox, reference_yaw: float = 0.0, snap_deg: float = 0.0)
         snapped = reference_yaw + k * quarter
         if abs(yaw - snapped) <= np.radians(snap_deg):
             yaw = float(snapped)
-    return OrientedBox(box.center, box.size, yaw_to_matrix(yaw))
+    return yaw
 
 
 def seated_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
@@ -1196,11 +1203,11 @@ class Placer:
                 if missed >= give_up:
                     boxes = boxes[:0]  # drawn (for the generator), not tried
                 for index, vec in enumerate(boxes):
-                    drawn = upright(OrientedBox.from_vector(vec), ref_yaw, snap)
+                    # upright (the drawn 6D rotation's heading), at the asset's size
+                    yaw = upright_yaw(sixd_x_axis(vec[6:12]), ref_yaw, snap)
                     if tilt and (context.wall is None or context.turn_free):  # as left
-                        drawn = OrientedBox(drawn.center, drawn.size,
-                                            yaw_to_matrix(drawn.yaw + tilt))  # fmt: skip
-                    box = OrientedBox(drawn.center, asset.size, drawn.rotation)  # the asset's
+                        yaw = float(matrix_to_yaw(yaw_to_matrix(yaw))) + tilt
+                    box = OrientedBox(vec[:3], asset.size, yaw_to_matrix(yaw))
                     if not cfg.reject:
                         box, moved = self._unjudged(box, context)
                         accepted = (tried + index, box)

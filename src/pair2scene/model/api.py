@@ -19,6 +19,7 @@ the torch network, built from the same weights on first use.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from collections import OrderedDict
 from collections.abc import Sequence
@@ -85,6 +86,8 @@ TOKEN_CACHE_ENTRIES = 2048
 """Encoded clouds :class:`LayoutModel` keeps in memory, by cloud and by asset: more than the
 asset library a room type draws from (1,551 observed sizes over every category), so a
 process making rooms of one type soon encodes nothing (16 kB each)."""
+FRAME_CLOUDS = 64
+"""Floor and wall clouds kept in memory (24 kB each): a scene's room and walls."""
 
 
 class CloudInputs:
@@ -355,10 +358,9 @@ class LayoutModel:
         """An anchor's cloud, or its asset (:meth:`_asset_encoded` encodes it)."""
         if anchor.cloud is not None:
             return anchor.cloud
-        if anchor.is_floor:
-            return room_cloud(anchor.box.size, self.n_points)
-        if anchor.is_wall:
-            return wall_cloud(anchor.box.size, self.n_points)
+        if anchor.is_floor or anchor.is_wall:
+            size = tuple(float(v) for v in anchor.box.size)
+            return _frame_cloud(anchor.is_floor, size, self.n_points)
         if anchor.asset is not None:
             return anchor.asset
         return _procedural_cloud(anchor.category, anchor.box.size, self.n_points)
@@ -610,6 +612,15 @@ def one_blas_thread():
     if _blas is None:  # (after numpy has loaded its BLAS, so that the controller sees it)
         _blas = ThreadpoolController()
     return _blas.limit(limits=1, user_api="blas")
+
+
+@functools.lru_cache(maxsize=FRAME_CLOUDS)
+def _frame_cloud(floor: bool, size: tuple[float, float, float], n: int) -> np.ndarray:
+    """The cloud (read-only) of a room's floor (``floor``) or of a wall, of frame ``size``:
+    a scene's queries on the floor or a wall ask for the same few, each many times."""
+    cloud = room_cloud(size, n) if floor else wall_cloud(size, n)
+    cloud.setflags(write=False)
+    return cloud
 
 
 def _procedural_cloud(category: str, size, n: int) -> np.ndarray:

@@ -178,7 +178,7 @@ def _layer_norm(x: np.ndarray, norm: _Norm) -> np.ndarray:
 
 def _softmax_(scores: np.ndarray) -> np.ndarray:
     """Softmax over the last dim, in place."""
-    scores -= scores.max(-1, keepdims=True)
+    scores -= np.maximum.reduce(scores, -1, keepdims=True)
     np.exp(scores, out=scores)
     scores /= np.add.reduce(scores, -1, keepdims=True)
     return scores

@@ -131,8 +131,9 @@ def table_rows(table: np.ndarray, categories: np.ndarray, frames: np.ndarray | N
     """(B, ...) ``table``'s row for each tuple (0 for a pair it lacks): (B, 2) centres of
     :func:`pair_centre_table`, (B, Q) log shares of :func:`pair_turn_table`."""
     frame = np.zeros(len(categories), np.int64) if frames is None else np.asarray(frames)
-    anchor = np.clip(frame_anchor(categories, frame), 0, table.shape[0] - 1)
-    dep = np.clip(categories[:, DEPENDENT], 0, table.shape[1] - 1)
+    # (np.minimum and np.maximum: np.clip's wrapper costs more than the indexing)
+    anchor = np.minimum(np.maximum(frame_anchor(categories, frame), 0), table.shape[0] - 1)
+    dep = np.minimum(np.maximum(categories[:, DEPENDENT], 0), table.shape[1] - 1)
     return table[anchor, dep, frame]
 
 

@@ -25,6 +25,9 @@ def yaw_to_matrix(yaw: ArrayLike) -> np.ndarray:
 
     yaw : (...,) float  ->  (..., 3, 3) float
     """
+    if isinstance(yaw, float):  # one yaw, as placement asks thousands of times a scene
+        c, s = float(np.cos(yaw)), float(np.sin(yaw))  # (the same numbers as below)
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     yaw = np.asarray(yaw, dtype=float)
     c, s = np.cos(yaw), np.sin(yaw)
     zero, one = np.zeros_like(yaw), np.ones_like(yaw)
@@ -60,13 +63,20 @@ def sixd_to_matrix(sixd: ArrayLike, eps: float = 1e-9) -> np.ndarray:
     are not); they must not be parallel.
     """
     x = np.asarray(sixd, dtype=float)
-    a, b = x[..., :3], x[..., 3:]
-    c0 = a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), eps)
+    b = x[..., 3:]
+    c0 = sixd_x_axis(x, eps)
     b = b - np.sum(c0 * b, axis=-1, keepdims=True) * c0
     c1 = b / np.maximum(np.linalg.norm(b, axis=-1, keepdims=True), eps)
     (ax, ay, az), (bx, by, bz) = np.moveaxis(c0, -1, 0), np.moveaxis(c1, -1, 0)
     c2 = np.stack((ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx), axis=-1)
     return np.stack([c0, c1, c2], axis=-1)  # (c2: np.cross's products, in its order)
+
+
+def sixd_x_axis(sixd: np.ndarray, eps: float = 1e-9) -> np.ndarray:
+    """The first column of :func:`sixd_to_matrix` (the local +x axis), alone: (..., 6)
+    float -> (..., 3)."""
+    a = sixd[..., :3]
+    return a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), eps)
 
 
 def euler_to_matrix(angles: ArrayLike, order: str) -> np.ndarray:
