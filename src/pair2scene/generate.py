@@ -358,14 +358,6 @@ def config_changes(config: GenerateConfig, base: GenerateConfig | None = None) -
 _USER_LP_THREADS = "LP_NUM_THREADS" in os.environ
 """Whether the environment set llvmpipe's thread count itself (then :func:`set_threads`
 leaves it)."""
-TOP_VIEW_THREADS = 2
-"""The fewest rasterising threads the top view's software GL gets (Mesa's llvmpipe,
-``LP_NUM_THREADS``; never more than the machine's cores). Its scene pass is drawn in
-those threads while the folder's other files are written, and it is the same work, in
-the same pixels, on one thread or two: where a second core is idle it ends sooner (a
-written fit bedroom 0.082 -> 0.066 s of writing on a 2-core Xeon), and where none is, the
-two take turns. A thread a core, llvmpipe's own default, would start 64 a process on a
-64-core machine."""
 
 
 def set_threads(threads: int | None = None) -> None:
@@ -382,16 +374,14 @@ def set_threads(threads: int | None = None) -> None:
     the scenes of one instead of 1.89x (run in turn; docs/benchmarks.md). Parallelism comes from
     processes: run several generate jobs side by side.
 
-    The top view's software GL (Mesa's llvmpipe) gets the same count, and at least
-    :data:`TOP_VIEW_THREADS` where the machine has the cores (``LP_NUM_THREADS``, unless
-    the environment set it before pair2scene was imported): it starts a rasterising thread
-    a core otherwise. It reads the setting when the first GL context is made, so a later
-    call does not change it."""
+    The top view's software GL (Mesa's llvmpipe) is held to the same count
+    (``LP_NUM_THREADS``, unless the environment set it before pair2scene was imported):
+    it starts a rasterising thread a core otherwise. It reads the setting when the first
+    GL context is made, so a later call does not change it."""
     if threads is not None and threads < 1:
         raise UserError("--threads must be at least 1")
     if not _USER_LP_THREADS:
-        drawing = max(threads or 1, min(TOP_VIEW_THREADS, os.cpu_count() or 1))
-        os.environ["LP_NUM_THREADS"] = str(drawing)
+        os.environ["LP_NUM_THREADS"] = str(threads or 1)
     from threadpoolctl import ThreadpoolController
 
     ThreadpoolController().limit(limits=threads or 1, user_api="blas")

@@ -19,6 +19,7 @@ the torch network, built from the same weights on first use.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 from collections import OrderedDict
@@ -610,7 +611,9 @@ def one_blas_thread():
     an idle machine and loses far more on a busy one."""
     global _blas
     if _blas is None:  # (after numpy has loaded its BLAS, so that the controller sees it)
-        _blas = ThreadpoolController()
+        _blas = ThreadpoolController().select(user_api="blas")
+    if all(lib.num_threads == 1 for lib in _blas.lib_controllers):
+        return contextlib.nullcontext()  # (as generation has it: set_threads' default)
     return _blas.limit(limits=1, user_api="blas")
 
 

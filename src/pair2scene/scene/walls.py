@@ -96,7 +96,10 @@ class Wall:
         """World xy (..., 2) -> (along, inward) coordinates: along from the midpoint,
         inward from the wall's line."""
         rel = np.asarray(points, float) - self.midpoint
-        return np.stack([rel @ self.direction, rel @ self.normal], axis=-1)
+        out = np.empty((*rel.shape[:-1], 2))
+        out[..., 0] = rel @ self.direction
+        out[..., 1] = rel @ self.normal
+        return out
 
     def extent(self, box: OrientedBox) -> tuple[float, float]:
         """(lo, hi) along the wall, from its midpoint, that ``box``'s footprint covers."""
