@@ -21,6 +21,29 @@ def test_the_forward_passes_run_on_one_blas_thread():
         assert _blas_threads() in (set(), {2})
 
 
+def test_on_one_blas_thread_already_the_forward_pass_leaves_the_limits_alone():
+    from pair2scene.model.api import one_blas_thread
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        with one_blas_thread():
+            assert _blas_threads() in (set(), {1})
+        assert _blas_threads() in (set(), {1})
+
+
+def test_floor_and_wall_clouds_are_made_once_read_only():
+    import numpy as np
+
+    from pair2scene.model.api import _frame_cloud
+    from pair2scene.model.features import room_cloud, wall_cloud
+
+    floor = _frame_cloud(True, (4.0, 3.0, 2.5), 256)
+    assert floor is _frame_cloud(True, (4.0, 3.0, 2.5), 256) and not floor.flags.writeable
+    assert floor.tobytes() == room_cloud((4.0, 3.0, 2.5), 256).tobytes()
+    wall = _frame_cloud(False, (4.0, 0.2, 2.5), 256)
+    assert wall.tobytes() == wall_cloud((4.0, 0.2, 2.5), 256).tobytes()
+    assert not np.array_equal(wall, _frame_cloud(False, (3.0, 0.2, 2.5), 256))
+
+
 def test_torch_gets_one_thread_unless_asked():
     import pytest
 

@@ -15,7 +15,7 @@ from pair2scene.assembly.place import (  # noqa: E402
     Placer,
     door_boxes,
     floor_region,
-    upright,
+    upright_yaw,
 )
 from pair2scene.assembly.rest import contact_rectangle, into_room, rest_on_surfaces  # noqa: E402
 from pair2scene.assembly.rooms import make_room  # noqa: E402
@@ -107,7 +107,8 @@ def test_impossible_objects_are_dropped_with_their_dependents(placer):
 
 def test_upright_and_door_boxes():
     tilted = OrientedBox([0, 0, 1], [1, 1, 1], rot_x(0.4))
-    assert np.allclose(upright(tilted).rotation, np.eye(3))
+    assert upright_yaw(tilted.rotation[:, 0]) == 0.0
+    assert upright_yaw(np.array([0.0, 0.0, 1.0])) == 0.0  # x straight up: no heading
     room = make_room("bedroom", np.random.default_rng(0))
     (box,) = door_boxes(room, 0.8, room.height)
     assert box.size[1] == pytest.approx(2 * max(0.8, room.doors[0].width))
@@ -118,12 +119,13 @@ def test_upright_and_door_boxes():
 def test_yaw_snaps_to_the_support_axes_only_when_close():
     from pair2scene.scene.geometry import yaw_to_matrix
 
-    near = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(97)))
-    assert upright(near, 0.0, 10.0).yaw == pytest.approx(np.pi / 2)
-    far = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(120)))
-    assert upright(far, 0.0, 10.0).yaw == pytest.approx(np.radians(120))
-    turned = OrientedBox([0, 0, 0], [1, 1, 1], yaw_to_matrix(np.radians(33)))
-    assert upright(turned, np.radians(30), 10.0).yaw == pytest.approx(np.radians(30))
+    def x_axis(deg: float) -> np.ndarray:
+        return yaw_to_matrix(np.radians(deg))[:, 0]
+
+    assert upright_yaw(x_axis(97), 0.0, 10.0) == pytest.approx(np.pi / 2)
+    assert upright_yaw(x_axis(120), 0.0, 10.0) == pytest.approx(np.radians(120))
+    assert upright_yaw(x_axis(33), np.radians(30), 10.0) == pytest.approx(np.radians(30))
+    assert upright_yaw(x_axis(97)) == pytest.approx(np.radians(97))  # (no snap asked)
 
 
 def test_an_object_whose_base_fits_no_surface_is_dropped_without_drawing(placer):

@@ -30,6 +30,19 @@ def test_walls_have_inward_normals_in_rectangles_and_l_shapes():
     assert len(walls_of(L_ROOM.floor_polygon)) == 6
 
 
+def test_wall_local_gives_along_and_inward_for_any_leading_shape():
+    rng = np.random.default_rng(0)
+    for w in walls_of(L_ROOM.floor_polygon):
+        ends = w.local(np.array([w.p0, w.p1]))
+        np.testing.assert_allclose(ends, [[-w.length / 2, 0.0], [w.length / 2, 0.0]], atol=1e-12)
+        assert w.local(w.midpoint + 0.3 * w.normal) == pytest.approx([0.0, 0.3])
+        pts = rng.uniform(-1, 5, size=(7, 3, 2))
+        rel = pts - w.midpoint
+        expected = np.stack([rel @ w.direction, rel @ w.normal], axis=-1)
+        assert w.local(pts).shape == (7, 3, 2)
+        assert w.local(pts).tobytes() == expected.tobytes()
+
+
 def test_bed_with_its_headboard_to_the_wall_faces_in():
     walls = walls_of(RECT.floor_polygon)
     head_to_wall = OrientedBox.from_yaw([2, 1.95, 0.3], [1.6, 2.0, 0.6], np.pi)  # back at y=2.95

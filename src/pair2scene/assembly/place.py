@@ -617,16 +617,10 @@ class _Placed:
     asset: Asset
 
 
-def upright(box: OrientedBox, reference_yaw: float = 0.0, snap_deg: float = 0.0) -> OrientedBox:
-    """The box turned upright about its centre, its yaw kept (from the x axis's heading);
-    a yaw within ``snap_deg`` of ``reference_yaw`` + k * 90 degrees is snapped onto it."""
-    yaw = upright_yaw(box.rotation[:, 0], reference_yaw, snap_deg)
-    return OrientedBox(box.center, box.size, yaw_to_matrix(yaw))
-
-
 def upright_yaw(x_axis: np.ndarray, reference_yaw: float = 0.0, snap_deg: float = 0.0) -> float:
-    """:func:`upright`'s yaw of a box whose local +x axis is ``x_axis`` (3,): its heading
-    (0 for an axis straight up or down), snapped as there."""
+    """The yaw of a drawn box turned upright about its centre: the heading of its local +x
+    axis ``x_axis`` (3,) (0 for an axis straight up or down); a yaw within ``snap_deg`` of
+    ``reference_yaw`` + k * 90 degrees is snapped onto it."""
     x = x_axis
     yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
     if snap_deg > 0:
@@ -1206,6 +1200,7 @@ class Placer:
                     # upright (the drawn 6D rotation's heading), at the asset's size
                     yaw = upright_yaw(sixd_x_axis(vec[6:12]), ref_yaw, snap)
                     if tilt and (context.wall is None or context.turn_free):  # as left
+                        # (the yaw read back from its matrix, as a box's yaw property is)
                         yaw = float(matrix_to_yaw(yaw_to_matrix(yaw))) + tilt
                     box = OrientedBox(vec[:3], asset.size, yaw_to_matrix(yaw))
                     if not cfg.reject:
