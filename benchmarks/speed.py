@@ -15,8 +15,9 @@ Run from the repository root, on an idle machine::
   store, as ``pair2scene assets tokens`` does once (its time is reported too; the
   library's assets come back, and their tokens and surfaces are read, not computed);
 - ``beyond`` bedrooms of 20, 40, 80, 160 and 320 objects (:data:`BEYOND_SEEDS` fresh
-  seeds each, median) and the cost slope, log(seconds) against log(objects) from 40 to
-  320;
+  seeds each, median; the sizes in turn, a seed of each a round, so that a machine
+  speeding up or slowing down during the run weighs on every size alike) and the cost
+  slope, log(seconds) against log(objects) from 40 to 320;
 - scenes a minute from one process and from two side by side, the same
   ``--minute-scenes`` fit bedrooms either way (seeds 0..N-1; two processes take half
   each), the same over ``--long-scenes`` (a long job: each process's start paid once
@@ -161,15 +162,18 @@ def warm(tmp: Path, scenes: int):
     p2s.model.store_tokens(library_assets(p2s.placer.sizes, surfaces=True))
     library = time.perf_counter() - t0
     fit, split, assets = bedrooms(p2s, tmp, range(scenes))
-    beyond = {}
-    for k, n in enumerate(SIZES):
-        times, placed = [], []
-        for seed in range(1000 * (k + 1), 1000 * (k + 1) + BEYOND_SEEDS):
+    times: dict[int, list[float]] = {n: [] for n in SIZES}
+    placed: dict[int, list[int]] = {n: [] for n in SIZES}
+    for j in range(BEYOND_SEEDS):  # the sizes in turn, a seed of each a round
+        for k, n in enumerate(SIZES):
             t0 = time.perf_counter()
-            r = p2s.generate(room="bedroom", seed=seed, mode="beyond", max_objects=n)
-            times.append(time.perf_counter() - t0)
-            placed.append(r.stats.objects_placed)
-        beyond[n] = (statistics.median(times), statistics.median(placed), statistics.mean(times))
+            r = p2s.generate(room="bedroom", seed=1000 * (k + 1) + j, mode="beyond", max_objects=n)
+            times[n].append(time.perf_counter() - t0)
+            placed[n].append(r.stats.objects_placed)
+    beyond = {
+        n: (statistics.median(times[n]), statistics.median(placed[n]), statistics.mean(times[n]))
+        for n in SIZES
+    }
     return empty, library, statistics.median(fit), split, beyond, encoder_batching(p2s, assets)
 
 
