@@ -621,8 +621,8 @@ def upright_yaw(x_axis: np.ndarray, reference_yaw: float = 0.0, snap_deg: float 
     """The yaw of a drawn box turned upright about its centre: the heading of its local +x
     axis ``x_axis`` (3,) (0 for an axis straight up or down); a yaw within ``snap_deg`` of
     ``reference_yaw`` + k * 90 degrees is snapped onto it."""
-    x = x_axis
-    yaw = float(np.arctan2(x[1], x[0])) if np.hypot(x[0], x[1]) > 1e-6 else 0.0
+    x, y = x_axis[0], x_axis[1]
+    yaw = float(np.arctan2(y, x)) if np.hypot(x, y) > 1e-6 else 0.0
     if snap_deg > 0:
         quarter = np.pi / 2
         k = np.round((yaw - reference_yaw) / quarter)
@@ -800,11 +800,11 @@ class Placer:
                     assets[node.id] = models[node.category]
                     continue
             rng = np.random.default_rng(asset_seed(node.id, seed))
-            mesh_seed = self._mesh_seeds(rng)
             held = assets.get(item.support) if item.support != FLOOR else None
             if held is not None and hangs_on(node.category, held):  # a towel on its rail
                 size = hung_size(self.sizes.draw(node.category, rng, self._jitter, fits=draped,
                                                  room_type=hierarchy.room_type), held)  # fmt: skip
+                mesh_seed = self._mesh_seeds(rng)
                 assets[node.id] = generate(node.category, size, mesh_seed(node.category, size))
                 continue
             margins = [None]

@@ -37,7 +37,7 @@ from functools import cached_property
 import numpy as np
 
 from pair2scene.assets.mesh import CONVEX_TOL, Asset, Mesh
-from pair2scene.scene.geometry import following, polygon_area
+from pair2scene.scene.geometry import points_in_polygon, polygon_area
 
 NORMAL_TOL_DEG = 10.0
 """A face tilted up to this far from horizontal still holds things: a seat tilted back
@@ -105,17 +105,10 @@ class SupportSurface:
         """(M,) bool: which points (M, 2) lie on the surface (inside the outline, outside
         every hole)."""
         xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        outline, *holes = self._edges
-        inside = _inside_edges(xy, outline)
-        for h in holes:
-            inside &= ~_inside_edges(xy, h)
+        inside = points_in_polygon(xy, self.polygon)
+        for h in self.holes:
+            inside &= ~points_in_polygon(xy, h)
         return inside
-
-    @cached_property
-    def _edges(self) -> list[tuple[np.ndarray, ...]]:
-        """:func:`_ring_edges` of the outline, then of each hole (placement tests a
-        surface thousands of times a scene)."""
-        return [_ring_edges(r) for r in (self.polygon, *self.holes)]
 
 
 # -- convex parts ------------------------------------------------------------------
@@ -811,25 +804,3 @@ def _weighted_percentile(values: np.ndarray, weights: np.ndarray, q: float) -> f
     cum = np.cumsum(weights[order])
     k = int(np.searchsorted(cum, q / 100 * cum[-1]))
     return float(values[order[min(k, len(values) - 1)]])
-
-
-def _point_in_polygon(xy: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """(M,) even-odd test of points (M, 2) against a ring (N, 2)."""
-    return _inside_edges(xy, _ring_edges(poly))
-
-
-def _ring_edges(poly: np.ndarray) -> tuple[np.ndarray, ...]:
-    """A ring's (N, 2) edges as :func:`_inside_edges` reads them: their starts' x and y,
-    their ends' y, and their x and y extents."""
-    a, b = poly, following(poly)
-    return a[:, 0], a[:, 1], b[:, 1], b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-
-
-def _inside_edges(xy: np.ndarray, edges: tuple[np.ndarray, ...]) -> np.ndarray:
-    """(M,) even-odd test of points (M, 2) against a ring's :func:`_ring_edges`."""
-    ax, ay, by, dx, dy = edges
-    x, y = xy[:, :1], xy[:, 1:]
-    crosses = (ay > y) != (by > y)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xint = ax + (y - ay) * dx / dy
-    return (np.count_nonzero(crosses & (x < xint), axis=1) % 2) == 1
