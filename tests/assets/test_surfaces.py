@@ -26,7 +26,7 @@ def test_a_surface_holds_points_inside_its_outline_and_outside_its_holes():
     pts = np.array([[0, 0], [0.5, 0.5], [1.5, 0], [-0.9, 0.9], [0.1, -0.1], [0, 1.01]])
     expected = [False, True, False, True, False, False]
     assert surface.contains(pts).tolist() == expected
-    assert surface.contains(pts).tolist() == expected  # (its edges kept from the first)
+    assert surface.contains(pts).tolist() == expected  # (asked again: the same)
     assert surface.contains(pts[1]).tolist() == [True]
     plain = SupportSurface(0.5, outline, 4.0, math.inf)
     assert plain.contains(pts).tolist() == [True, True, False, True, True, False]
