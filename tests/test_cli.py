@@ -62,3 +62,43 @@ def test_bare_command_shows_help_and_exits_2(capsys):
     out, err = capsys.readouterr()
     assert "Usage" in out and "validate" in out
     assert "Traceback" not in err
+
+
+def test_reflowed_joins_a_paragraphs_lines_and_keeps_paragraphs():
+    from pair2scene.cli import reflowed
+
+    doc = """First line,
+        second line.
+
+        Next paragraph,
+        its end.
+        """
+    assert reflowed(doc) == "First line, second line.\n\nNext paragraph, its end."
+    assert reflowed(None) is None
+
+
+def _commands(group, prefix=()):
+    for command in group.registered_commands:
+        yield (*prefix, command.name), command
+    for sub in group.registered_groups:
+        yield from _commands(sub.typer_instance, (*prefix, sub.name))
+
+
+def test_every_command_help_wraps_whole_paragraphs(capsys, monkeypatch):
+    """A command's help is its docstring with each paragraph on one line, so that the
+    terminal, not the source's line breaks, wraps it: at a width of 200 columns the second
+    paragraph of ``generate --help`` is one line (typer joins a first paragraph's lines
+    itself, not a later one's)."""
+    from pair2scene.cli import app
+
+    names = []
+    for path, command in _commands(app):
+        names.append(path)
+        assert command.help, path
+        for paragraph in command.help.split("\n\n"):
+            assert "\n" not in paragraph, path
+    assert ("generate",) in names and ("assets", "tokens") in names
+    monkeypatch.setenv("COLUMNS", "200")
+    assert main(["generate", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "is an option below, named by its place in the config" in out

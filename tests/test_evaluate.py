@@ -13,7 +13,8 @@ from clitools import run_cli
 pytest.importorskip("torch")
 
 from pair2scene.assembly.keep import keep_assets  # noqa: E402
-from pair2scene.evaluate import evaluate, parse_reference  # noqa: E402
+from pair2scene.errors import UserError  # noqa: E402
+from pair2scene.evaluate import evaluate, load_reference, parse_reference  # noqa: E402
 from pair2scene.generate import Pair2Scene, generate_scenes  # noqa: E402
 from pair2scene.io.scene_json import read_scene, write_scene  # noqa: E402
 
@@ -90,6 +91,24 @@ def test_reference_specs():
     assert parse_reference("ai2thor") == ("ai2thor", None)
     assert parse_reference("procthor:/a/b.jsonl.gz:train") == ("procthor:/a/b.jsonl.gz", "train")
     assert parse_reference("procthor:/a/b.jsonl.gz") == ("procthor:/a/b.jsonl.gz", None)
+
+
+def test_a_bad_reference_says_what_was_wrong_once(tmp_path):
+    """A spec of no known form lists the forms; a known form that is incomplete or whose
+    file is bad says what is wrong, without the list of forms (which it followed)."""
+    bad = tmp_path / "houses.jsonl"
+    bad.write_text("not json\n")
+    forms = "use ai2thor[:val], procthor:PATH[:val]"
+    for spec in ("nonsense:val", "ai2thor:tran", "procthor"):
+        with pytest.raises(UserError) as e:
+            load_reference([spec])
+        assert str(e.value).startswith(f"--reference {spec}: ")
+        assert str(e.value).count("use ") == (spec != "procthor"), str(e.value)
+        assert (forms in str(e.value)) == (spec != "procthor")
+    with pytest.raises(UserError) as e:
+        load_reference([f"procthor:{bad}:val"])
+    wrong = f"{bad}: line 1: not valid JSON (Expecting value)"
+    assert str(e.value) == f"--reference procthor:{bad}:val: {wrong}"
 
 
 @pytest.mark.parametrize(

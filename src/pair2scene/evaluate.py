@@ -111,7 +111,7 @@ def load_reference(
 ) -> list[Scene]:
     """The real rooms of every spec (a source with an optional split, or a folder of
     scene.json files), only those of ``room_types`` when given."""
-    from pair2scene.data.sources import load_source
+    from pair2scene.data.sources import SOURCE_KINDS, load_source, source_kind
 
     if not specs:
         raise UserError(f"give at least one --reference ({REFERENCE_FORMS})")
@@ -121,10 +121,13 @@ def load_reference(
             scenes += load_scene_folder(spec)
             continue
         source, split = parse_reference(spec)
+        kind = source_kind(source)
+        if kind not in SOURCE_KINDS or (kind == "ai2thor" and ":" in source):
+            raise UserError(f"--reference {spec}: unknown source; use {REFERENCE_FORMS}")
         try:
             scenes += load_source(source, split=split, progress=progress).scenes
-        except UserError as e:
-            raise UserError(f"--reference {spec}: {e} (use {REFERENCE_FORMS})") from None
+        except UserError as e:  # the form was right: what was wrong is in the message
+            raise UserError(f"--reference {spec}: {e}") from None
     if room_types is not None:
         wanted = set(room_types)
         scenes = [s for s in scenes if s.room.type in wanted]

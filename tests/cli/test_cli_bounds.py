@@ -144,7 +144,25 @@ def test_other_counts_and_choices(tmp_path, capsys, no_work):
         (generate(out, "--keep", str(tmp_path / "missing.json")), "no such file"),
         (generate(out, "--stats", str(tmp_path / "missing.json")), "no such file"),
         (generate(out, "--assembly.candidates", HUGE), "--assembly.candidates"),
-    ]
+        # Values that made work without bound (a candidate pushed back and forth 10**9
+        # times, a floor grid of 60 GiB) or passed collisions off as contact.
+        (generate(out, "--assembly.push-attempts", "1000000000"),
+         "--assembly.push-attempts must be in 0 .. 20"),
+        (generate(out, "--assembly.dense-push-attempts", "21"),
+         "--assembly.dense-push-attempts must be in 0 .. 20 or none"),
+        (generate(out, "--assembly.navigation.resolution-m", "1e-9"),
+         "--assembly.navigation.resolution-m must be in 0.01 .. 0.5"),
+        (generate(out, "--assembly.navigation.agent-radius-m", "1e9"),
+         "--assembly.navigation.agent-radius-m must be at most 2.0"),
+        (generate(out, "--assembly.tolerances.touch", "0.5"),
+         "--assembly.tolerances.touch must be in 0 .. 0.005"),
+        (generate(out, "--assembly.tolerances.touch", "-1"),
+         "--assembly.tolerances.touch must be in 0 .. 0.005"),
+        (generate(out, "--assembly.tolerances.box-margin", "-1"),
+         "--assembly.tolerances.box-margin must be in 0 .. 0.005"),
+        (generate(out, "--assembly.tolerances.thin-fraction", "2"),
+         "--assembly.tolerances.thin-fraction must be in 0 .. 1.0"),
+    ]  # fmt: skip
     for argv, expected in cases:
         assert expected in refused(argv, capsys), argv
     only(tmp_path)

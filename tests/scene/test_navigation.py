@@ -237,6 +237,7 @@ def test_navigation_report_pools_rooms():
 @pytest.mark.parametrize(
     ("field", "value"),
     [("agent_radius_m", 0.0), ("resolution_m", -1.0), ("resolution_m", 1.0),
+     ("resolution_m", 1e-9), ("resolution_m", 0.0099),
      ("front_reach_m", float("nan")), ("door_swing_m", -0.1)],
 )  # fmt: skip
 def test_config_range_checks(field, value):

@@ -24,6 +24,10 @@ from pair2scene.assets.mesh import Asset
 from pair2scene.errors import UserError
 from pair2scene.scene.geometry import convex_hull_2d
 
+MAX_TOLERANCE_M = 0.005
+"""Largest contact tolerance and broad-phase margin :class:`Tolerances` accepts: the
+penetration `pair2scene evaluate` counts as an intersection."""
+
 
 @dataclass(frozen=True)
 class Tolerances:
@@ -41,6 +45,16 @@ class Tolerances:
     """For a thin object the contact tolerance is at most this share of the thinner
     object's smallest extent: 2 mm of overlap is contact for books, but a credit card
     2 mm inside a book is in it."""
+
+    def __post_init__(self) -> None:
+        # A larger tolerance would let placement keep what `evaluate` counts as
+        # intersecting (COLLISION_DEPTH_M, 5 mm): collisions passed off as contact.
+        bounds = {"touch": MAX_TOLERANCE_M, "box_margin": MAX_TOLERANCE_M, "thin_fraction": 1.0}
+        for name, top in bounds.items():
+            value = getattr(self, name)
+            if not (math.isfinite(value) and 0 <= value <= top):
+                flag = "--assembly.tolerances." + name.replace("_", "-")
+                raise UserError(f"{flag} must be in 0 .. {top}, got {value}")
 
 
 TOLERANCES = Tolerances()

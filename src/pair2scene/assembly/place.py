@@ -127,6 +127,10 @@ from pair2scene.scene.walls import (
 MAX_CANDIDATES = 100_000
 """Most candidates one object may draw: each is a row of a batched forward pass and a
 collision test, so more would be unbounded work, not a better placement."""
+MAX_PUSH_ATTEMPTS = 20
+"""Most push-outs one candidate may take: two neighbours can push it back and forth for as
+long as it is allowed to (10**9 kept one bedroom busy for minutes), and a candidate not
+free after a few pushes is better drawn again."""
 NO_ROOM = frozenset({"collision", "door", "blocks_path", "outside", "overlap"})
 """Rejections for want of room, which :attr:`AssemblyConfig.dense_give_up` (and
 ``dense_give_up_support``) counts."""
@@ -281,7 +285,7 @@ class AssemblyConfig:
     off a wall or a neighbour keeps the model's arrangement)."""
     push_attempts: int = 5
     """Push-outs (of a collision or a door's swing) tried per candidate before it is
-    rejected (a push-out can move a candidate into a third object; the next one moves it
+    rejected, 0 .. 20 (a push-out can move a candidate into a third object; the next one moves it
     out). Pushing along each contact's own normal, and giving up on a contact from above
     (a remote under a lamp's shade), left 0.34 resamples per object on 20 fit bedrooms;
     the shortest move that clears every contact's footprints at once, 0.20 (both with
@@ -537,9 +541,12 @@ class AssemblyConfig:
             value = getattr(self, name)
             if value is not None and value < 1:
                 raise UserError(f"{_flag(name)} must be >= 1 or none, got {value}")
-        if self.dense_push_attempts is not None and self.dense_push_attempts < 0:
-            raise UserError(f"{_flag('dense_push_attempts')} must be >= 0 or none, "
-                            f"got {self.dense_push_attempts}")  # fmt: skip
+        for name in ("push_attempts", "dense_push_attempts"):
+            value = getattr(self, name)
+            if value is not None and not 0 <= value <= MAX_PUSH_ATTEMPTS:
+                or_none = "" if name == "push_attempts" else " or none"
+                raise UserError(f"{_flag(name)} must be in 0 .. {MAX_PUSH_ATTEMPTS}{or_none}, "
+                                f"got {value}")  # fmt: skip
         if self.candidates * self.batches > MAX_CANDIDATES:
             raise UserError(
                 f"--assembly.candidates x --assembly.batches must be at most {MAX_CANDIDATES}"

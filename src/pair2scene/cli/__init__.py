@@ -9,6 +9,7 @@ command runs) is one line too, naming the path. A message is cut to
 
 from __future__ import annotations
 
+import inspect
 import json
 import os
 import sys
@@ -98,6 +99,28 @@ def validate(
     for f in files:
         scene = read_scene(f)
         typer.echo(f"{f}: ok ({len(scene.objects)} objects, room {scene.room.type})")
+
+
+def reflowed(doc: str | None) -> str | None:
+    """A docstring as help text: dedented, each paragraph's lines joined into one, so that
+    ``--help`` wraps a paragraph to the terminal's width instead of breaking it where the
+    source did (typer keeps a later paragraph's line breaks)."""
+    if doc is None:
+        return None
+    paragraphs = inspect.cleandoc(doc).split("\n\n")
+    return "\n\n".join(" ".join(line.strip() for line in p.splitlines()) for p in paragraphs)
+
+
+def _reflow_commands(group: typer.Typer) -> None:
+    """Give every command of ``group`` and its subgroups its reflowed docstring as help."""
+    for command in group.registered_commands:
+        if command.help is None and command.callback is not None:
+            command.help = reflowed(command.callback.__doc__)
+    for sub in group.registered_groups:
+        _reflow_commands(sub.typer_instance)
+
+
+_reflow_commands(app)
 
 
 def error_line(message: str, suffix: str = "") -> str:

@@ -83,16 +83,21 @@ WELL_REACHED = 0.97
 _CROSS = ndimage.generate_binary_structure(2, 1)  # 4-connectivity
 
 
+MIN_RESOLUTION_M = 0.01
+"""Finest floor cell :class:`NavigationConfig` accepts (a 20 x 20 m apartment: 4 million
+cells)."""
+
+
 @dataclass(frozen=True)
 class NavigationConfig:
     """How navigability is measured and guarded."""
 
     agent_radius_m: float = 0.2
-    """Radius of the agent's disc: free floor keeps its centre this far from walls and
-    obstacles, so gaps narrower than twice it are closed."""
+    """Radius of the agent's disc, up to 2 m: free floor keeps its centre this far from
+    walls and obstacles, so gaps narrower than twice it are closed."""
     resolution_m: float = 0.05
-    """Side of a floor cell. Reachability is exact at the cell centres; a gap within a cell
-    of twice the radius may go either way."""
+    """Side of a floor cell, 0.01 .. 0.5. Reachability is exact at the cell centres; a gap
+    within a cell of twice the radius may go either way."""
     clearance_m: float = 0.05
     """Objects whose box bottom is below this (or whose support is the floor) are
     obstacles; higher ones (on furniture, on walls) are not."""
@@ -133,8 +138,14 @@ class NavigationConfig:
         if not 0.0 <= self.min_reachable_share <= 1.0:  # (NaN fails too)
             raise UserError(f"{flag('min_reachable_share')} must be in [0, 1], "
                             f"got {self.min_reachable_share}")  # fmt: skip
-        if self.resolution_m > 0.5:
-            raise UserError(f"{flag('resolution_m')} must be at most 0.5, got {self.resolution_m}")
+        if self.agent_radius_m > 2.0:  # wider than most rooms: no floor would be free
+            raise UserError(f"{flag('agent_radius_m')} must be at most 2.0, "
+                            f"got {self.agent_radius_m}")  # fmt: skip
+        if not MIN_RESOLUTION_M <= self.resolution_m <= 0.5:
+            # Below a centimetre the grid of a large room outgrows memory (1e-9 m asked for
+            # 60 GiB of cell centres) for nothing an agent of centimetres could tell.
+            raise UserError(f"{flag('resolution_m')} must be in {MIN_RESOLUTION_M} .. 0.5, "
+                            f"got {self.resolution_m}")  # fmt: skip
         if self.door_swing_m is not None and not (
             np.isfinite(self.door_swing_m) and self.door_swing_m >= 0
         ):
