@@ -377,3 +377,23 @@ def test_objects_under_a_painting_are_counted_apart_from_the_others():
     assert rules.rate("bedroom", "sofa", anchored=False, under=False) == pytest.approx(4 / 10)
     old = WallRules.from_stats(HierarchyStats.fit(scenes[6:]))  # no sofa under anything
     assert old.rate("bedroom", "sofa", under=False) == old.rate("bedroom", "sofa")
+
+
+def test_furniture_no_room_held_takes_its_stand_ins_shares():
+    """A wardrobe (no training room held one) stands against a wall as often as the
+    dressers did, corners and sides too; once the counts hold wardrobes, their own."""
+    from pair2scene.assembly.walls import STAND_INS
+
+    rules = WallRules(
+        rates={"bedroom": {"dresser": (9, 10)}, "kitchen": {"desk": (1, 4)}},
+        corners={"bedroom": {"dresser": (3, 9)}},
+        sideways={"bedroom": {"dresser": (1, 9)}},
+    )
+    assert STAND_INS["wardrobe"] == "dresser"
+    assert rules.rate("bedroom", "wardrobe") == rules.rate("bedroom", "dresser") == 0.9
+    assert rules.corner_rate("bedroom", "wardrobe") == pytest.approx(1 / 3)
+    assert rules.sideways_rate("bedroom", "wardrobe") == pytest.approx(1 / 9)
+    assert rules.rate("kitchen", "dressing_table") == 0.25  # a desk's
+    assert rules.rate("bedroom", "ottoman") == 0.0  # no stand-in: none counted, none drawn
+    rules.rates["living_room"] = {"wardrobe": (0, 5)}
+    assert rules.rate("bedroom", "wardrobe") == 0.0  # counted somewhere: its own (pooled)

@@ -48,6 +48,20 @@ def test_headline_through_the_cli_json():
         assert order.index(e["parent"]["id"]) < order.index(e["child"]["id"])
 
 
+@pytest.mark.parametrize("seed", range(5))
+def test_nightstands_stand_at_the_rooms_beds(seed):
+    """Nightstands the text relates to nothing stand at a bed: the text's ("a double bed,
+    two nightstands"), else the room's (the template's), spread over them in turn."""
+    for text in (HEADLINE, "a bedroom with a double bed, two nightstands and a wardrobe"):
+        h = offline(text, seed)
+        beds = [n.id for n in h.nodes if n.category == "bed"]
+        stands = [n.id for n in h.nodes if n.category == "side_table"]
+        assert beds and len(stands) == 2
+        assert all(h.functional.get(s) in beds for s in stands)
+        if len(beds) > 1:
+            assert len({h.functional[s] for s in stands}) == 2  # one at each bed
+
+
 def test_functional_phrases_and_each():
     h = offline("an office with two desks, each with a chair and a laptop")
     desks = [n.id for n in h.nodes if n.category == "desk"]

@@ -37,7 +37,48 @@ def test_headline_lamp_on_each_nightstand():
 def test_list_with_each_reuses_the_mentioned_nightstands():
     spec = parse_text("a bedroom with a bed, two nightstands and a lamp on each nightstand")
     assert counts(spec) == [("bed", 1), ("side_table", 2), ("table_lamp", 1)]
-    assert links(spec) == {("support", "table_lamp", "side_table", True)}
+    assert links(spec) == {
+        ("support", "table_lamp", "side_table", True),
+        ("functional", "side_table", "bed", False),  # a nightstand stands at the bed
+    }
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("a bedroom with a double bed, two nightstands and a wardrobe",
+         {("functional", "side_table", "bed", False)}),
+        ("a kitchen with an island and four bar stools",
+         {("functional", "stool", "counter_top", False)}),
+        ("a dining room with a dining table and six dining chairs",
+         {("functional", "chair", "dining_table", False)}),
+        ("an office with a desk and an office chair", {("functional", "chair", "desk", False)}),
+        # the text's own relation stands; a name implies nothing against it
+        ("a bedroom with a bed and a nightstand beside the desk",
+         {("functional", "bed", "desk", False), ("functional", "side_table", "desk", False)}),
+        # the anchor placed relative to the nightstand: no cycle
+        ("a bedroom with a nightstand and a bed beside the nightstand",
+         {("functional", "bed", "side_table", False)}),
+        # plain stools and chairs say nothing of where they stand; no bed, no anchor
+        ("a kitchen with an island and four stools", set()),
+        ("a bedroom with a desk and a chair", set()),
+        ("a room with two nightstands", set()),
+    ],
+)  # fmt: skip
+def test_a_name_that_says_what_its_object_stands_at_relates_it(text, expected):
+    assert links(parse_text(text)) == expected
+
+
+def test_implied_anchor_reads_singular_and_plural_names():
+    from pair2scene.hierarchy.text import implied_anchor
+
+    assert implied_anchor("two nightstands") == "bed"
+    assert implied_anchor("the Night Stands") == "bed"
+    assert implied_anchor("a bedside table") == "bed"
+    assert implied_anchor("4 barstools") == "counter_top"
+    assert implied_anchor("some stools") is None
+    assert implied_anchor("a standing lamp") is None
+    assert category_of("a reading chair") == "armchair"
 
 
 def test_with_list_and_on_it():

@@ -61,6 +61,12 @@ category for their own wall, corner and sideways shares to be used there (:func:
 ``anchored``); fewer, and the category's shares stand in."""
 
 
+STAND_INS: dict[str, str] = {"wardrobe": "dresser", "cabinet": "dresser", "dressing_table": "desk"}
+"""Furniture no training room held, and the category whose wall, corner and sideways
+shares it takes: a wardrobe a text asks for stands against a wall as dressers do (0.99 in
+bedrooms), where no counts of its own left it mid-room."""
+
+
 @dataclass
 class WallRules:
     """Wall rates per room type and category, and anchor distances per pair."""
@@ -212,6 +218,8 @@ def _share(
     were counted, in place of the ``anchored`` split. Then, with ``under``, of those the
     ones a wall object hangs over (True, :func:`~pair2scene.curation.stats.under_key`) or
     the others (False), when :data:`MIN_SPLIT_OBJECTS` of them were counted."""
+    if category in STAND_INS and not any(category in r for r in table.values()):
+        category = STAND_INS[category]
     key = _key(table, room_type, category, size)
 
     def counts(name: str) -> tuple[float, float]:

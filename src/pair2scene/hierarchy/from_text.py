@@ -9,7 +9,9 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    spread over the anchor's instances in turn); supports and functional anchors follow the
    text's relations; an object the text puts nowhere stands on the floor if its category
    mostly does, else on a named or template object that the statistics say holds it
-   (adding its most common holder when none is there);
+   (adding its most common holder when none is there); one whose name says what it
+   stands at ("nightstands", "bar stools": :data:`~.text.IMPLIED_ANCHORS`) and that the
+   text relates to nothing stands at the room's object of that category;
 3. walls: a mention the text hangs on a wall (:attr:`~.text.TextSpec.on_wall`: "a TV on
    the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
    puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
@@ -57,7 +59,13 @@ from pair2scene.hierarchy.synthesis import (
     load_stats,
     offered_once,
 )
-from pair2scene.hierarchy.text import MOUNTABLE, WALL_OBJECTS, Mention, TextSpec
+from pair2scene.hierarchy.text import (
+    MOUNTABLE,
+    WALL_OBJECTS,
+    Mention,
+    TextSpec,
+    implied_anchor,
+)
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
 from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall
 
@@ -188,13 +196,15 @@ def hierarchy_from_spec(
                 if on_wall(h.support[a.id]):  # "a TV beside the painting" hangs beside it
                     h.notes.append(f"on a wall: {nodes[-1].id} by {a.id}")
         else:
-            for _ in range(_room_for(h, m, m.count)):
+            implied = implied_anchor(m.phrase)  # the room's bed for "two nightstands"
+            for k in range(_room_for(h, m, m.count)):
                 if len(h) >= MAX_OBJECTS_LIMIT:  # (a holder added for the object took it)
                     h.notes.append(f"{m.phrase!r}: not all added, {MAX_OBJECTS_LIMIT} objects")
                     break
                 support = _default_support(h, st, m.category, rng, avoid)
                 siblings = [n for n in h.children(support) if n.id not in h.functional]
-                func = st.functional_choice(
+                at = [n for n in siblings if n.category == implied]
+                func = at[k % len(at)] if at else st.functional_choice(
                     h.by_id()[support].category if support != FLOOR else FLOOR,
                     m.category, siblings, rng,
                 )  # fmt: skip

@@ -232,7 +232,8 @@ EXTRA_SYNONYMS: dict[str, str] = {
     "telly": "television", "flatscreen": "television", "flat screen": "television",
     "tv set": "television",
     "sofa bed": "sofa", "sectional": "sofa", "futon": "sofa", "chaise longue": "sofa",
-    "recliner": "armchair", "rocking chair": "armchair",
+    "recliner": "armchair", "rocking chair": "armchair", "reading chair": "armchair",
+    "wing chair": "armchair", "wingback chair": "armchair",
     "bench": "ottoman", "beanbag": "ottoman", "bean bag": "ottoman", "pouffe": "ottoman",
     "night table": "side_table", "bedside cabinet": "side_table", "lamp table": "side_table",
     "chest": "dresser",
@@ -253,6 +254,24 @@ EXTRA_SYNONYMS: dict[str, str] = {
     "sink basin": "sink", "bathtub basin": "bathtub", "shower stall": "shower",
 }
 # fmt: on
+
+IMPLIED_ANCHORS: dict[str, str] = {
+    "nightstand": "bed",
+    "night stand": "bed",
+    "bedside table": "bed",
+    "night table": "bed",
+    "bedside cabinet": "bed",
+    "dining chair": "dining_table",
+    "desk chair": "desk",
+    "office chair": "desk",
+    "bar stool": "counter_top",
+    "barstool": "counter_top",
+    "counter stool": "counter_top",
+}
+"""Names that say what their object stands at: nightstands at a bed, bar stools at a
+counter. A mention so named with no relation in the text takes the first mention of that
+category as its functional anchor ("a double bed, two nightstands and a wardrobe": both
+nightstands at the bed), else the room's object of it (:func:`implied_anchor`)."""
 
 MASS_NOUNS = frozenset({"fruit"})
 """Singular forms that count like a bare plural ("a bowl of fruit")."""
@@ -1257,12 +1276,54 @@ def parse_text(text: str) -> TextSpec:
     elements = _elements(text, _tokens(text))
     parser = _Parser(_named_room(elements))
     parser.run(elements)
-    spec = replace(parser.spec(text), notes=tuple(notes))
+    spec = _implied_relations(replace(parser.spec(text), notes=tuple(notes)))
     if spec.room_type is None and not spec.mentions:
         shown = " ".join(text.split())
         shown = shown if len(shown) <= 60 else shown[:57] + "..."
         raise UserError(f"no room type and no known object in the description {shown!r}")
     return spec
+
+
+def implied_anchor(phrase: str) -> str | None:
+    """The category a mention's name says it stands at (:data:`IMPLIED_ANCHORS`:
+    "two nightstands" -> ``bed``), or None."""
+    words = " ".join(re.findall(r"[a-z]+", phrase.lower()))
+    for name, anchor in IMPLIED_ANCHORS.items():
+        forms = "|".join(re.escape(" ".join(k)) for k in {_key(name), *_plural_keys(_key(name))})
+        if re.search(rf"\b(?:{forms})\b", words):
+            return anchor
+    return None
+
+
+def _implied_relations(spec: TextSpec) -> TextSpec:
+    """``spec`` with a functional relation for every mention whose name implies its anchor
+    (:func:`implied_anchor`) and that the text relates to nothing, to the first mention of
+    that anchor's category (none when that one is placed relative to it already)."""
+    related = {r.dependent for r in spec.relations}
+    anchors_of: dict[str, set[str]] = {}
+    for r in spec.relations:
+        anchors_of.setdefault(r.dependent, set()).add(r.anchor)
+
+    def depends_on(ref: str, other: str) -> bool:
+        seen, todo = set(), [ref]
+        while todo:
+            at = todo.pop()
+            if at == other:
+                return True
+            if at not in seen:
+                seen.add(at)
+                todo.extend(anchors_of.get(at, ()))
+        return False
+
+    added = []
+    for m in spec.mentions:
+        category = implied_anchor(m.phrase) if m.ref not in related else None
+        anchor = next((a for a in spec.mentions if a.category == category), None)
+        if anchor is None or anchor.ref == m.ref or depends_on(anchor.ref, m.ref):
+            continue
+        added.append(Relation(FUNCTIONAL, m.ref, anchor.ref, each=False))
+        anchors_of.setdefault(m.ref, set()).add(anchor.ref)
+    return replace(spec, relations=spec.relations + tuple(added)) if added else spec
 
 
 def category_of(phrase: str) -> str | None:
