@@ -92,7 +92,7 @@ from pair2scene.assembly.walls import (
     walls_with_room,
     within_reach,
 )
-from pair2scene.assets.forms import closed_by_walls, end_to_wall
+from pair2scene.assets.forms import closed_by_walls, end_to_wall, form_of
 from pair2scene.assets.identity import asset_seed, library_seed
 from pair2scene.assets.mesh import Asset
 from pair2scene.assets.surfaces import surfaces_of
@@ -210,7 +210,8 @@ deviations of the jitter a drawn size takes (:data:`~pair2scene.assembly.sizes.J
 LONELY_RETRIES = 32
 """Candidates of a floor object rejected only for standing alone in the room
 (``isolated``, :attr:`AssemblyConfig.isolation`) that are tried again, alone allowed,
-when no candidate passed: better there than not in the room at all."""
+when no candidate passed: better there than not in the room at all. The same number of
+a mid-room object's candidates rejected near a wall (``at_wall``) are tried again by it."""
 CROWD_RETRIES = 32
 """Candidates of a mounted object rejected only for hanging close to another on its wall
 (``crowded``, :attr:`AssemblyConfig.wall_spacing`) that are tried again, close allowed,
@@ -795,7 +796,8 @@ class Placer:
         floor objects of a category share its first one's asset in a room drawn to match
         (:attr:`AssemblyConfig.matching`). A table with chairs at it takes a size whose
         edge seats them (:func:`seats_fit`; a table of
-        :data:`~pair2scene.categories.SEATED_AT`)."""
+        :data:`~pair2scene.categories.SEATED_AT`), and one the hierarchy stands mid-room a
+        size of no particular form (:func:`mid_room_fit`: a straight counter)."""
         from pair2scene.assets.registry import generate
 
         assets: dict[str, Asset] = dict(given or {})
@@ -826,6 +828,8 @@ class Placer:
                 fits = None if margin is None else surface_fit(held, margin)
                 if seated > 1:
                     fits = seats_fit(seated)
+                elif node.id in hierarchy.mid_room:  # an island: a straight run, not an L
+                    fits = mid_room_fit(node.category)
                 asset = self._draw_asset(node.category, item.support, held, fits, rng,
                                          hierarchy.room_type)  # fmt: skip
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:
@@ -1078,8 +1082,9 @@ class Placer:
                         node, room, seed, asset.size, self._anchored(functional), seats
                     ))  # fmt: skip
                 backs = node.id in backed or cornered or across_wall
-                queries = self._wall_queries(query, node, room, placed, seed, check,
-                                             backs, turned, seats) or queries  # fmt: skip
+                if node.id not in hierarchy.mid_room:
+                    queries = self._wall_queries(query, node, room, placed, seed, check,
+                                                 backs, turned, seats) or queries  # fmt: skip
             elif mounted:
                 queries = self._mount_queries(query, node, item.support, room, placed, seed,
                                               dressed, over, node.id in across,
@@ -1099,7 +1104,10 @@ class Placer:
                                contact_rectangle(asset), guard, check, spot=spot)  # fmt: skip
             context.below_top = support.category in self.top_free
             tilt = self._tilt(node.category, asset_seed(node.id, seed)) if on_floor_ else 0.0
-            if on_floor_ and not self._may_stand_alone(node.category, asset_seed(node.id, seed)):
+            if node.id in hierarchy.mid_room:  # an island: clear of the walls, alone or not
+                context.clear_of = walls_of(room.floor_polygon)
+            elif on_floor_ and not self._may_stand_alone(node.category,
+                                                         asset_seed(node.id, seed)):  # fmt: skip
                 context.company = [floor_outline(placed[i].box) for i in floor_ids]
             context.push_attempts = cfg.push_attempts
             if dense and cfg.dense_push_attempts is not None:
@@ -1170,6 +1178,7 @@ class Placer:
             windowed: list[tuple] = []  # (candidate, wall, across) rejected only as window
             unfaced: list[tuple] = []  # (candidate, wall, corner) rejected as no_wall_across
             lonely: list[tuple] = []  # (candidate, wall, corner) rejected only as isolated
+            walled: list[tuple] = []  # (candidate, wall, corner) rejected as at_wall
             covering = None  # the first candidate that passed all but covering a wall object
             for k, (q, wall) in enumerate(queries):  # a wall at a time, each its share
                 n_q = n // len(queries) + (1 if k < n % len(queries) else 0)
@@ -1249,6 +1258,8 @@ class Placer:
                             windowed.append((box, context.mount, context.across))
                         if reason == "isolated" and len(lonely) < LONELY_RETRIES:
                             lonely.append((box, context.wall, context.corner))
+                        if reason == "at_wall" and len(walled) < LONELY_RETRIES:
+                            walled.append((box, context.wall, context.corner))
                         missed += reason in NO_ROOM
                         if missed >= give_up:
                             boxes = boxes[: index + 1]  # (counted as tried)
@@ -1287,6 +1298,8 @@ class Placer:
                 accepted = lifted(slid, _as_hung)
             if accepted is None and lonely:  # none near a wall or another: alone will do
                 accepted = lifted(lonely, _as_drawn, company=None)
+            if accepted is None and walled:  # none clear of the walls: by one will do
+                accepted = lifted(walled, _as_drawn, clear_of=None)
             if accepted is None and halves:  # none by the drawn half: the other will do
                 assert context.anchor is not None
                 accepted = lifted(halves, _as_drawn, anchor=replace(context.anchor, half=0))
@@ -1673,15 +1686,16 @@ class Placer:
         not at its functional anchor as the training rooms' pairs were, "turned" /
         "off_spot": not how or where the training rooms' objects stood on their support,
         "isolated": alone in the room when its category's objects rarely stood so
-        (:attr:`_Context.company`), "off_wall": no longer against the wall it was drawn
-        against, "side_to_wall": a
-        side, not its back, against it when the wall rules did not turn it sideways
-        (:meth:`_sideways`; the data's share of sideways objects is drawn there, not left
-        to the model's yaw), "along_wall": a shower panel's long face at a wall
-        (:attr:`_Context.end_to_wall`), "door", "overlap" (over or under another floor object's
-        footprint, :attr:`AssemblyConfig.separate_footprints`: tested before the meshes,
-        a cheaper test whose push clears the meshes too), "collision", "blocks_path") and
-        what it hits (the doors' indices, the objects' ids)."""
+        (:attr:`_Context.company`), "at_wall": nearer a wall than
+        :data:`MID_ROOM_GAP_M` when the hierarchy stands it mid-room, "off_wall": no
+        longer against the wall it was drawn against, "side_to_wall": a side, not its back,
+        against it when the wall rules did not turn it sideways (:meth:`_sideways`; the
+        data's share of sideways objects is drawn there, not left to the model's yaw),
+        "along_wall": a shower panel's long face at a wall (:attr:`_Context.end_to_wall`),
+        "door", "overlap" (over or under another floor object's footprint,
+        :attr:`AssemblyConfig.separate_footprints`: tested before the meshes, a cheaper
+        test whose push clears the meshes too), "collision", "blocks_path") and what it
+        hits (the doors' indices, the objects' ids)."""
         if ctx.support != FLOOR and not on_floor(box, ctx.room.floor_polygon):
             return "wall", []
         if ctx.spot is not None:
@@ -1698,6 +1712,8 @@ class Placer:
             and stands_alone(floor_outline(box), ctx.room.floor_polygon, ctx.company)
         ):
             return "isolated", []  # alone mid-room, as its category's objects rarely stood
+        if ctx.clear_of is not None and walls_near(box, ctx.clear_of, MID_ROOM_GAP_M):
+            return "at_wall", []  # an island or a table the text put mid-room
         if (
             ctx.wall is not None
             and not face_contacts(box, [ctx.wall], faces=("back",))
@@ -1892,6 +1908,10 @@ class _Context:
     the footprints of the floor objects placed before it; a candidate further than
     :data:`~pair2scene.scene.relations.ALONE_M` from all of them and from every wall is
     ``isolated`` (None: no rule)."""
+    clear_of: list | None = None
+    """For a floor object the hierarchy stands mid-room (:attr:`Hierarchy.mid_room
+    <pair2scene.hierarchy.tree.Hierarchy.mid_room>`): the room's walls, which a candidate
+    may come no nearer than :data:`MID_ROOM_GAP_M` (``at_wall``; None: no rule)."""
 
 
 @dataclass(frozen=True)
@@ -1933,6 +1953,28 @@ def seats_of(hierarchy: Hierarchy) -> Counter[str]:
     )  # fmt: skip
 
 
+MIN_ISLAND_M = 1.2
+"""Shortest counter drawn for an island (:func:`mid_room_fit`): 13 of the 18 training
+kitchens' floor counters standing 0.3 m or more from every wall were 1.14-4.35 m long, the
+other five 0.5-0.71 m pieces."""
+
+
+def mid_room_fit(category: str):
+    """A test of sizes (K, 3) -> (K,) bool: which suit ``category``'s object standing clear
+    of every wall: built in no particular form (:func:`~pair2scene.assets.forms.form_of`;
+    a counter that stands free is a straight run, not an L or a C of cabinets, which
+    stand in corners) and, for a counter, at least :data:`MIN_ISLAND_M` long."""
+
+    def fits(sizes: np.ndarray) -> np.ndarray:
+        sizes = np.asarray(sizes, float)
+        plain = np.array([form_of(category, size) is None for size in sizes], bool)
+        if category == "counter_top":
+            plain &= sizes[:, :2].max(1) >= MIN_ISLAND_M
+        return plain
+
+    return fits
+
+
 def seats_fit(seats: int):
     """A test of sizes (K, 3) -> (K,) bool: which seat ``seats`` chairs round their edge,
     :data:`PERIMETER_PER_SEAT_M` each; the one of the longest perimeter when none does.
@@ -1947,6 +1989,11 @@ def seats_fit(seats: int):
 
     return fits
 
+
+MID_ROOM_GAP_M = 0.6
+"""Floor kept between a mid-room object (:attr:`Hierarchy.mid_room
+<pair2scene.hierarchy.tree.Hierarchy.mid_room>`: "a kitchen island") and every wall: a
+walkway, half again an agent's width at the default radius (0.4 m)."""
 
 FIT_MARGIN = 0.9
 """Share of a surface's extent a dependent's footprint may take when the data says no

@@ -11,7 +11,10 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    mostly does, else on a named or template object that the statistics say holds it
    (adding its most common holder when none is there); one whose name says what it
    stands at ("nightstands", "bar stools": :data:`~.text.IMPLIED_ANCHORS`) and that the
-   text relates to nothing stands at the room's object of that category;
+   text relates to nothing stands at the room's object of that category; one the text
+   wants mid-room ("a kitchen island", "in the middle of the room") stands clear of the
+   walls (:attr:`~.tree.Hierarchy.mid_room`), an island besides the counters the
+   statistics give the room;
 3. walls: a mention the text hangs on a wall (:attr:`~.text.TextSpec.on_wall`: "a TV on
    the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
    puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
@@ -65,6 +68,7 @@ from pair2scene.hierarchy.text import (
     Mention,
     TextSpec,
     implied_anchor,
+    named_mid_room,
 )
 from pair2scene.hierarchy.tree import Hierarchy, HierarchyError, Node
 from pair2scene.scene.model import FLOOR, WALL, is_root, on_wall
@@ -151,9 +155,11 @@ def hierarchy_from_spec(
     support_of = {r.dependent: r for r in spec.relations if r.kind == "support"}
     functional_of = {r.dependent: r for r in spec.relations if r.kind == "functional"}
     instances: dict[str, list[Node]] = {}
-    named = frozenset(m.category for m in spec.mentions)
+    # an island is a counter besides the room's: it leaves the statistics their counters
+    named = frozenset(m.category for m in spec.mentions if not named_mid_room(m.phrase))
     avoid = named | frozenset(spec.excluded)  # what the statistics never add
     hung = frozenset(spec.on_wall)
+    mid_room = frozenset(spec.mid_room)
 
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)
@@ -220,6 +226,8 @@ def hierarchy_from_spec(
                         f"{node.id}: dropped the functional anchor {a.id} (not on the same support)"
                     )
         instances[m.ref] = nodes
+        if m.ref in mid_room:  # "a kitchen island": clear of every wall
+            h.mid_room.update(n.id for n in nodes if h.support[n.id] == FLOOR)
 
     if config.mode == "beyond":
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS

@@ -60,6 +60,10 @@ def reply_schema() -> dict:
                 "type": "boolean",
                 "description": "a wall object hung across the room, facing its Floor anchor",
             },
+            "mid_room": {
+                "type": "boolean",
+                "description": "a Floor object standing clear of every wall (a kitchen island)",
+            },
         },
         "required": ["anchor", "dependent"],
         "additionalProperties": False,
@@ -146,7 +150,9 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
         "painting above the bed, a mirror above the dresser, a TV on the wall opposite the "
         'sofa, a wall lamp beside the bed) or on the Wall; "over": true on the edge of one '
         'hung right above its Floor anchor (a painting above the bed), "across": true on '
-        "one hung across the room facing it (a TV opposite the sofa). Curtains and blinds "
+        'one hung across the room facing it (a TV opposite the sofa); "mid_room": true on '
+        "the edge of a Floor object standing clear of every wall (a kitchen island, a table "
+        "in the middle of the room; the anchor may be the Floor). Curtains and blinds "
         "hang at windows, one object per window (curtains on two windows: two curtains "
         "objects), placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
@@ -194,6 +200,8 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
                 raise HierarchyError(f"the {dep.capitalize()} cannot be a functional dependent")
             if h.support.get(dep) != root:
                 raise HierarchyError(f"{where}: {dep!r} does not rest on it")
+            if e.get("mid_room", False):
+                h.mid_room.add(dep)  # (validate: on the Floor)
             if anchor == root:
                 continue
             if on_wall(root) and category[dep] in WINDOW_DRESSINGS:

@@ -13,6 +13,8 @@ it is placed relative to (``functional``: an object on the same support, optiona
   under its anchor, one without hangs under the root. Every node of it rests on its
   root. A wall-mounted dependent whose edge says ``"over": true`` hangs over its anchor,
   a floor object, within its width (:attr:`Hierarchy.over`: "a painting above the sofa").
+  A floor dependent whose edge says ``"mid_room": true`` stands clear of every wall
+  (:attr:`Hierarchy.mid_room`: "a kitchen island").
 - The **sequence** (:meth:`Hierarchy.sequence`) orders the relation tuples for
   placement: breadth-first over the support tree, and at each support a depth-first walk
   of its functional tree. Every anchor (support or functional) comes before its
@@ -114,6 +116,11 @@ class Hierarchy:
     """Wall-mounted nodes that hang across the room from their functional anchor, a floor
     object, where it faces them ("a TV on the wall opposite the sofa"); placement tries
     only the walls it faces first."""
+    mid_room: set[str] = field(default_factory=set)
+    """Floor nodes that stand clear of every wall ("a kitchen island", "a table in the
+    middle of the room"); placement draws no wall for them and rejects a candidate that
+    comes near one (``at_wall``). Without this, the wall rules decide, as for any floor
+    object."""
 
     # -- building -------------------------------------------------------------------------
 
@@ -240,6 +247,11 @@ class Hierarchy:
                     raise HierarchyError(
                         f"{node_id!r} hangs {way} {anchor!r}, which must stand on the floor"
                     )
+        for node_id in sorted(self.mid_room):
+            if self.support.get(node_id) != FLOOR:
+                raise HierarchyError(
+                    f"{node_id!r} stands mid-room, so it must be a node on the floor"
+                )
         both = sorted(self.over & self.across)
         if both:
             raise HierarchyError(f"{both[0]!r} cannot hang both over and across from its anchor")
@@ -340,6 +352,7 @@ class Hierarchy:
                         {"anchor": ref(a), "dependent": ref(d)}
                         | ({"over": True} if d in self.over else {})
                         | ({"across": True} if d in self.across else {})
+                        | ({"mid_room": True} if d in self.mid_room else {})
                         for a, d in t.edges
                     ],
                 }
@@ -391,7 +404,8 @@ class Hierarchy:
                     anchor, dep = _text(_ref_id(e["anchor"])), _text(_ref_id(e["dependent"]))
                     if anchor != root:
                         h.functional[dep] = anchor
-                    for key, hung in (("over", h.over), ("across", h.across)):
+                    for key, hung in (("over", h.over), ("across", h.across),
+                                      ("mid_room", h.mid_room)):  # fmt: skip
                         flag = e.get(key, False)
                         if not isinstance(flag, bool):
                             raise TypeError(f"{key!r} of {dep!r} is not true or false")
