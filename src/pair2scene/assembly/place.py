@@ -1939,7 +1939,7 @@ def _floor_boxes(placed: dict[str, _Placed], ids=None) -> list[OrientedBox]:
 PERIMETER_PER_SEAT_M = 0.8
 """Edge of a table each chair at it takes at the least (:func:`seats_fit`): all but 2 of
 the 176 training rooms' dining tables with two or more chairs at them gave each at least
-this much of their perimeter (the two: six chairs round a 1.36 x 0.71 m table, 0.69 m
+this much of their perimeter (the two: six chairs round a 1.37 x 0.70 m table, 0.69 m
 each); the fewest four chairs had was 0.99 m each, six 0.69."""
 
 

@@ -1310,7 +1310,7 @@ def parse_text(text: str) -> TextSpec:
 
 def named_mid_room(phrase: str) -> bool:
     """Whether a mention's name is one of :data:`MID_ROOM_NAMES` ("two kitchen islands")."""
-    return _names(phrase, MID_ROOM_NAMES)
+    return _names(phrase, MID_ROOM_NAMES) is not None
 
 
 def _names(phrase: str, names) -> str | None:
