@@ -93,9 +93,11 @@ def test_cli_writes_folders_summary_and_resumes(tmp_path):
     proc = run_cli("generate", "--room", "bedroom", "--num", "2", "--seed", "7", "--out", str(out))
     assert proc.returncode == 0 and (out / "bedroom_0007" / "scene.json").read_bytes() == before
     assert "bedroom_0008/scene.html" in (out / "index.html").read_text()  # the gallery
+    assert f"2 scenes in {out} (2 of them already there, kept):" in proc.stdout
     again = tmp_path / "again"
     proc = run_cli("generate", "--room", "bedroom", "--seed", "7", "--out", str(again))
     assert proc.returncode == 0
+    assert f"1 scene in {again}: " in proc.stdout  # nothing kept: said nowhere
     assert (again / "bedroom_0007" / "scene.json").read_bytes() == before  # same seed, same file
 
 

@@ -577,6 +577,7 @@ def generate_scenes(
             prefix = room_key(room) if room is not None else "text"
             sid = f"{prefix}_{s:04d}"
             if sid in summary.scenes and (scene_folder(out, sid) / "scene.json").is_file():
+                summary.kept += 1
                 continue
             result = p2s.generate(room, text, s, mode, max_objects, llm, scene_id=sid,
                                   keep=kept, settle=settle)  # fmt: skip

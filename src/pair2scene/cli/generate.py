@@ -140,8 +140,12 @@ def generate_command(
         typer.echo(json.dumps(summary.to_dict(), indent=1))
         return
     t = summary.totals
+    # A folder that held the scenes already is resumed: say so, or its old scenes pass
+    # for new ones.
+    kept = f" ({summary.kept} of them already there, kept)" if summary.kept else ""
     typer.echo(
-        f"{t['scenes']} scenes in {out}: {t['objects_per_scene']:.1f} objects each, acceptance "
-        f"{t['acceptance_rate']:.2f}, {t['resamples_per_object']:.2f} resamples per object, "
-        f"{t['seconds_per_scene']:.2f} s per scene"
+        f"{t['scenes']} scene{'' if t['scenes'] == 1 else 's'} in {out}{kept}: "
+        f"{t['objects_per_scene']:.1f} objects each, "
+        f"acceptance {t['acceptance_rate']:.2f}, {t['resamples_per_object']:.2f} resamples per "
+        f"object, {t['seconds_per_scene']:.2f} s per scene"
     )

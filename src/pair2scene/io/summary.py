@@ -37,6 +37,9 @@ class Summary:
     """scene id -> its record."""
     totals: dict | None = None
     """Means over the scenes (:meth:`compute_totals`); None while a run is under way."""
+    kept: int = 0
+    """Scenes of this run's request an earlier run had already written, kept as they were
+    (not in summary.json: a property of the run, not of the folder)."""
 
     def to_dict(self) -> dict:
         out = {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "request": self.request,
