@@ -117,3 +117,15 @@ def test_an_llm_reply_may_stand_an_object_mid_room():
     )  # fmt: skip
     with pytest.raises(HierarchyError, match="must be a node on the floor"):
         hierarchy_from_reply(reply)
+
+
+def test_the_printed_hierarchy_marks_mid_room_over_and_across(capsys):
+    from pair2scene.cli import main
+
+    text = ("a living room with a sofa, a painting above the sofa, a tv on the wall opposite "
+            "the sofa and a coffee table in the middle of the room")  # fmt: skip
+    assert main(["hierarchy", "--text", text, "--llm", "never"]) == 0
+    lines = [line.strip() for line in capsys.readouterr().out.splitlines()]
+    assert "- coffee_table_0  [mid-room]" in lines
+    assert "- painting_0  [over sofa_0]" in lines
+    assert "- television_0  [across from sofa_0]" in lines

@@ -82,8 +82,10 @@ def hierarchy_command(
     def show(parent: str, depth: int) -> None:
         for child in h.children(parent):
             func = h.functional.get(child.id)
-            at = f"  [at {func}]" if func else ""
-            typer.echo(f"{'  ' * depth}- {child.id}{at}")
+            way = "over" if child.id in h.over else "across from" if child.id in h.across else "at"
+            at = f"  [{way} {func}]" if func else ""
+            mid = "  [mid-room]" if child.id in h.mid_room else ""
+            typer.echo(f"{'  ' * depth}- {child.id}{at}{mid}")
             show(child.id, depth + 1)
 
     for root in h.roots():  # the floor, then the walls
