@@ -122,6 +122,9 @@ class AnchorCheck:
     half: int = 0
     """-1: the object must stand by the anchor's back half (its centre behind the
     anchor's middle, in the anchor's frame), 1: by its front half, 0: either."""
+    min_gap: float = 0.0
+    """Nearest the object may stand to the anchor, footprint to footprint (``near_anchor``):
+    two sofas facing each other leave room between them."""
 
     def reason(self, box: OrientedBox, wall: Wall | None = None) -> str | None:
         """Why ``box`` cannot stand where it is relative to the anchor, or None.
@@ -139,8 +142,11 @@ class AnchorCheck:
             return "wrong_half"
         if self.across and wall is not None and faced_by(wall, self.anchor):
             return None
-        if footprint_gap(footprint(box), footprint(self.anchor)) > self.max_gap:
+        gap = footprint_gap(footprint(box), footprint(self.anchor))
+        if gap > self.max_gap:
             return "far_from_anchor"
+        if self.min_gap > 0 and gap < self.min_gap:
+            return "near_anchor"
         return None
 
 

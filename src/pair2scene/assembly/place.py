@@ -640,6 +640,30 @@ def upright_yaw(x_axis: np.ndarray, reference_yaw: float = 0.0, snap_deg: float 
     return yaw
 
 
+FACING_REASONS = ("faces_away", "not_in_front", "far_from_anchor", "near_anchor")
+"""Why a candidate the hierarchy stands facing its anchor (:attr:`Hierarchy.facing
+<pair2scene.hierarchy.tree.Hierarchy.facing>`) was not face to face with it: up to
+:data:`SEAT_RETRIES` such are tried again set across from it (:func:`facing_at`) when no
+candidate passed. The model draws a sofa at a sofa beside it, as the training rooms' pairs
+stood: 7 of 10 second sofas of "two sofas facing each other" found no candidate."""
+
+
+def facing_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
+    """``box`` set in front of ``anchor`` and facing it: along the anchor's front it keeps
+    its place (within the anchor's width), and its distance from the anchor's front its
+    own, held between :data:`FACING_MIN_GAP_M` and :data:`FACING_GAP_M`."""
+    local = anchor.to_local(box.center[None])[0]
+    depth = box.half_size[1]
+    reach = max(anchor.half_size[0] - box.half_size[0], 0.0)
+    gap = np.clip(local[1] - anchor.half_size[1] - depth,  # (a millimetre inside the bounds)
+                  FACING_MIN_GAP_M + 1e-3, FACING_GAP_M - 1e-3)  # fmt: skip
+    local[0] = np.clip(local[0], -reach, reach)
+    local[1] = anchor.half_size[1] + gap + depth
+    centre = anchor.to_world(local[None])[0]
+    centre[2] = box.center[2]
+    return OrientedBox(centre, box.size, yaw_to_matrix(anchor.yaw + np.pi))
+
+
 def seated_at(box: OrientedBox, anchor: OrientedBox) -> OrientedBox:
     """``box`` moved to the side of ``anchor`` it stands by (the side its centre is
     farthest beyond, in half sizes), its front to that side's edge and facing the anchor
@@ -1055,6 +1079,9 @@ class Placer:
                 if item.support == FLOOR and cfg.anchors and self.anchors is not None and framed:
                     check = self.anchors.check(node.category, fp.asset.category, fp.box,
                                                asset_seed(node.id, seed))  # fmt: skip
+                if node.id in hierarchy.facing:  # "two sofas facing each other"
+                    check = AnchorCheck(fp.box, FACING_GAP_M, must_face=True, in_front=True,
+                                        min_gap=FACING_MIN_GAP_M)  # fmt: skip
             over = None  # the wall behind the floor object it hangs over, when it does
             if mounted and node.id in hierarchy.over and functional is not None:
                 behind = wall_contact(functional.box, walls_of(room.floor_polygon))
@@ -1173,6 +1200,7 @@ class Placer:
             strays: list[OrientedBox] = []  # drawn candidates rejected only as off_spot
             halves: list[tuple] = []  # (candidate, wall, corner) rejected only as wrong_half
             unseated: list[OrientedBox] = []  # drawn candidates turned from or off their anchor
+            unfacing: list[OrientedBox] = []  # drawn candidates not face to face with it
             crossed: list[OrientedBox] = []  # drawn candidates rejected only as crosswise
             crowded: list[tuple] = []  # (candidate, wall, across) rejected only as crowded
             windowed: list[tuple] = []  # (candidate, wall, across) rejected only as window
@@ -1243,6 +1271,9 @@ class Placer:
                             halves.append((box, context.wall, context.corner))
                         if reason in SEAT_REASONS and len(unseated) < SEAT_RETRIES:
                             unseated.append(box)
+                        if (reason in FACING_REASONS and node.id in hierarchy.facing
+                                and len(unfacing) < SEAT_RETRIES):  # fmt: skip
+                            unfacing.append(box)
                         if reason == "crosswise" and len(crossed) < CROSS_RETRIES:
                             crossed.append(box)
                         if reason == "crowded" and len(crowded) < CROWD_RETRIES:
@@ -1313,6 +1344,11 @@ class Placer:
                 at = context.anchor.anchor
                 seated = [(seated_at(b, at), None, None) for b in unseated]  # (wherever the walls)
                 accepted = lifted(seated, _as_drawn)
+            if accepted is None and unfacing:  # none face to face: set across from it
+                assert context.anchor is not None
+                at = context.anchor.anchor
+                across = [(facing_at(b, at), None, None) for b in unfacing]
+                accepted = lifted(across, _as_drawn)
             if accepted is None and covering is not None:  # better than not there at all
                 index, settled, moved = covering
                 accepted = (index, settled)
@@ -1682,8 +1718,9 @@ class Placer:
 
     def _blocked(self, box: OrientedBox, ctx: _Context) -> tuple[str | None, list]:
         """Why a resting candidate cannot stay ("wall": an object on a support reaching
-        through a wall, "faces_away" / "not_in_front" / "wrong_half" / "far_from_anchor":
-        not at its functional anchor as the training rooms' pairs were, "turned" /
+        through a wall, "faces_away" / "not_in_front" / "wrong_half" / "far_from_anchor" /
+        "near_anchor": not at its functional anchor as the training rooms' pairs were (or
+        as :attr:`Hierarchy.facing <pair2scene.hierarchy.tree.Hierarchy.facing>` asks), "turned" /
         "off_spot": not how or where the training rooms' objects stood on their support,
         "isolated": alone in the room when its category's objects rarely stood so
         (:attr:`_Context.company`), "at_wall": nearer a wall than
@@ -1989,6 +2026,14 @@ def seats_fit(seats: int):
 
     return fits
 
+
+FACING_GAP_M = 3.0
+"""Farthest a floor object the hierarchy stands facing its anchor (:attr:`Hierarchy.facing
+<pair2scene.hierarchy.tree.Hierarchy.facing>`: "two sofas facing each other") may stand
+from it, footprint to footprint: across a coffee table and a walkway, not across a hall."""
+FACING_MIN_GAP_M = 1.0
+"""Nearest it may stand: a coffee table's depth (0.5-0.6 m) and knee room either side
+(without it, 6 of 10 pairs of sofas "facing each other" stood front to front, touching)."""
 
 MID_ROOM_GAP_M = 0.6
 """Floor kept between a mid-room object (:attr:`Hierarchy.mid_room

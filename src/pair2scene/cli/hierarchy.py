@@ -82,7 +82,8 @@ def hierarchy_command(
     def show(parent: str, depth: int) -> None:
         for child in h.children(parent):
             func = h.functional.get(child.id)
-            way = "over" if child.id in h.over else "across from" if child.id in h.across else "at"
+            way = ("over" if child.id in h.over else "across from" if child.id in h.across
+                   else "facing" if child.id in h.facing else "at")  # fmt: skip
             at = f"  [{way} {func}]" if func else ""
             mid = "  [mid-room]" if child.id in h.mid_room else ""
             typer.echo(f"{'  ' * depth}- {child.id}{at}{mid}")

@@ -14,7 +14,8 @@ offline parser) into a :class:`~.tree.Hierarchy`:
    text relates to nothing stands at the room's object of that category; one the text
    wants mid-room ("a kitchen island", "in the middle of the room") stands clear of the
    walls (:attr:`~.tree.Hierarchy.mid_room`), an island besides the counters the
-   statistics give the room;
+   statistics give the room; what the text stands face to face ("two sofas facing each
+   other") faces its anchor from in front of it (:attr:`~.tree.Hierarchy.facing`);
 3. walls: a mention the text hangs on a wall (:attr:`~.text.TextSpec.on_wall`: "a TV on
    the wall") and a wall object (painting, mirror, curtains, blinds, wall lamp) the text
    puts on nothing rest on ``wall`` (placement picks which). The text's anchor, or the
@@ -160,6 +161,7 @@ def hierarchy_from_spec(
     avoid = named | frozenset(spec.excluded)  # what the statistics never add
     hung = frozenset(spec.on_wall)
     mid_room = frozenset(spec.mid_room)
+    facing = frozenset(spec.facing)
 
     if rs is not None:  # the room's furniture first: unanchored named objects can use it
         key = key_furniture(rs)
@@ -228,6 +230,8 @@ def hierarchy_from_spec(
         instances[m.ref] = nodes
         if m.ref in mid_room:  # "a kitchen island": clear of every wall
             h.mid_room.update(n.id for n in nodes if h.support[n.id] == FLOOR)
+        if m.ref in facing:  # "two sofas facing each other"
+            _face(h, nodes, func_rel is None)
 
     if config.mode == "beyond":
         target = config.max_objects or DEFAULT_BEYOND_OBJECTS
@@ -261,6 +265,21 @@ def _room_for(h: Hierarchy, m: Mention, n: int, anchors: list[Node] | None = Non
             f"{MAX_OBJECTS_LIMIT} (MAX_OBJECTS_LIMIT)"
         )
     return min(n, room)
+
+
+def _face(h: Hierarchy, nodes: list[Node], each_other: bool) -> None:
+    """Stand ``nodes`` of one mention face to face (:attr:`~.tree.Hierarchy.facing`): with
+    ``each_other`` ("two sofas facing each other") the second and later face the first, else
+    ("an armchair facing the sofa") each faces its functional anchor; floor objects with a
+    floor anchor only."""
+    if each_other and len(nodes) > 1 and h.support[nodes[0].id] == FLOOR:
+        for node in nodes[1:]:
+            if h.support[node.id] == FLOOR and node.id not in h.functional:
+                h.functional[node.id] = nodes[0].id
+    for node in nodes:
+        anchor = h.functional.get(node.id)
+        if h.support[node.id] == FLOOR and anchor is not None and h.support[anchor] == FLOOR:
+            h.facing.add(node.id)
 
 
 def _is_furniture(category: str) -> bool:

@@ -64,6 +64,10 @@ def reply_schema() -> dict:
                 "type": "boolean",
                 "description": "a Floor object standing clear of every wall (a kitchen island)",
             },
+            "facing": {
+                "type": "boolean",
+                "description": "a Floor object facing its Floor anchor from in front of it",
+            },
         },
         "required": ["anchor", "dependent"],
         "additionalProperties": False,
@@ -152,7 +156,9 @@ def messages(text: str, max_objects: int | None = None) -> list[dict]:
         'hung right above its Floor anchor (a painting above the bed), "across": true on '
         'one hung across the room facing it (a TV opposite the sofa); "mid_room": true on '
         "the edge of a Floor object standing clear of every wall (a kitchen island, a table "
-        "in the middle of the room; the anchor may be the Floor). Curtains and blinds "
+        'in the middle of the room; the anchor may be the Floor); "facing": true on the '
+        "edge of a Floor object facing its Floor anchor (two sofas facing each other: the "
+        "second anchored to the first). Curtains and blinds "
         "hang at windows, one object per window (curtains on two windows: two curtains "
         "objects), placed relative to no object.\n"
         "- Include everything the description names, with its counts, and complete the "
@@ -217,6 +223,8 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
                     f"{LLM_FLOOR} or hang on that wall, but {anchor!r} rests on {below!r}"
                 )
             h.functional[dep] = anchor
+            if e.get("facing", False):
+                h.facing.add(dep)  # (validate: on the Floor, its anchor too)
             if e.get("over", False):
                 h.over.add(dep)  # (validate: on a wall, over an object on the Floor)
             if e.get("across", False):

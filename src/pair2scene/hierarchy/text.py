@@ -132,6 +132,10 @@ class TextSpec:
     """The :attr:`Mention.ref` s of floor objects the text wants clear of every wall: "a
     kitchen island", "a table in the middle of the room" (:data:`MID_ROOM_NAMES`, a
     "middle" cue to the room)."""
+    facing: tuple[str, ...] = ()
+    """The :attr:`Mention.ref` s the text stands face to face ("two sofas facing each
+    other": the mention's instances, the second and later facing the first; "a sofa and an
+    armchair facing each other": the armchair, related to the sofa, faces it)."""
     excluded: tuple[str, ...] = ()
     """Categories the text asks for none of ("no desk", "0 beds", "without a TV"; a generic
     noun, "no lamps", every category it covers) and names nowhere else: the statistics add
@@ -172,6 +176,7 @@ EACH_COUNT = 2
 
 INDEF, DEF, EACH, BOTH, ANOTHER, NEG = "indef", "def", "each", "both", "another", "neg"
 IT, THEM, ONE = "it", "them", "one"
+RECIPROCAL = "each other"
 
 # Determiners: INDEF a new object, DEF refers back, EACH/BOTH refer back per instance,
 # ANOTHER always a new mention, NEG drops the phrase ("no tv").
@@ -193,6 +198,7 @@ DETERMINERS: dict[str, str] = {
 PRONOUNS: dict[str, str] = {
     "it": IT, "them": THEM, "they": THEM, "each one": EACH, "each of them": EACH,
     "every one of them": EACH, "all of them": EACH, "both of them": EACH, "each of those": EACH,
+    "each other": RECIPROCAL, "one another": RECIPROCAL,
 }
 # fmt: on
 
@@ -768,6 +774,9 @@ class _Object:
     """Its count already follows the walls or windows it hangs on."""
     mid_room: bool = False
     """It stands clear of every wall (:attr:`TextSpec.mid_room`)."""
+    facing: bool = False
+    """It faces the object it is related to, or its instances face each other
+    (:attr:`TextSpec.facing`)."""
 
 
 @dataclass
@@ -838,8 +847,9 @@ class _Parser:
         unparsed = tuple(dict.fromkeys(self.unparsed))
         named = {m.category for m in mentions}
         excluded = tuple(c for c in dict.fromkeys(self.excluded) if c not in named)
+        facing = tuple(ref for ref, o in self.objects.items() if o.facing and not o.wall)
         return TextSpec(text, self.room_type, mentions, relations, unparsed, on_wall,
-                        mid_room, excluded)  # fmt: skip
+                        mid_room, facing, excluded)  # fmt: skip
 
     # -- elements
 
@@ -927,6 +937,9 @@ class _Parser:
             each = target.det in (EACH, BOTH)
         elif target is None and cue.middle:  # "in the middle of the room" ("room" is skipped)
             anchor, each = _ROOM, False
+        elif isinstance(target, _Pron) and target.kind == RECIPROCAL:
+            self._reciprocal(cue)
+            return
         else:
             kind = target.kind if target is not None else IT
             anchor = self._pronoun(kind, anchor=True)
@@ -958,6 +971,24 @@ class _Parser:
         self.placed.add(anchor)
         self.group = [anchor]
         self.last, self.last_each = anchor, each
+
+    def _reciprocal(self, cue: _Cue) -> None:
+        """ "ITEMS <cue> each other": the later items relate to the first ("a sofa and an
+        armchair facing each other": the armchair to the sofa); one item of two or more
+        relates its instances ("two sofas facing each other", :attr:`TextSpec.facing`)."""
+        run = self._run(None)
+        self.placed.update(run)
+        if cue.kind != FUNCTIONAL or not run:
+            return
+        first = run[0]
+        for dep in run[1:]:
+            self._relate(FUNCTIONAL, dep, first, False, explicit=True)
+            self.objects[dep].facing |= cue.across
+        if len(run) == 1 and self.objects[first].count > 1:
+            self.objects[first].facing |= cue.across
+        self.cued = (first, run)
+        self.group = [first]
+        self.last, self.last_each = first, False
 
     def _seat(self, seat: _Seat) -> None:
         """ "for eight": that many seats around the last table (a new dining table when the

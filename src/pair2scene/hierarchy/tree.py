@@ -14,7 +14,9 @@ it is placed relative to (``functional``: an object on the same support, optiona
   root. A wall-mounted dependent whose edge says ``"over": true`` hangs over its anchor,
   a floor object, within its width (:attr:`Hierarchy.over`: "a painting above the sofa").
   A floor dependent whose edge says ``"mid_room": true`` stands clear of every wall
-  (:attr:`Hierarchy.mid_room`: "a kitchen island").
+  (:attr:`Hierarchy.mid_room`: "a kitchen island"); one whose edge says ``"facing": true``
+  faces its anchor from in front of it (:attr:`Hierarchy.facing`: "two sofas facing each
+  other").
 - The **sequence** (:meth:`Hierarchy.sequence`) orders the relation tuples for
   placement: breadth-first over the support tree, and at each support a depth-first walk
   of its functional tree. Every anchor (support or functional) comes before its
@@ -121,6 +123,12 @@ class Hierarchy:
     middle of the room"); placement draws no wall for them and rejects a candidate that
     comes near one (``at_wall``). Without this, the wall rules decide, as for any floor
     object."""
+    facing: set[str] = field(default_factory=set)
+    """Floor nodes that face their functional anchor, a floor object, from in front of it
+    ("two sofas facing each other"); placement rejects a candidate that does not face the
+    anchor or stands off its front (``faces_away``, ``not_in_front``) or more than
+    :data:`~pair2scene.assembly.place.FACING_GAP_M` from it. Without this, the training
+    rooms' pairs decide how a floor object stands at its anchor."""
 
     # -- building -------------------------------------------------------------------------
 
@@ -252,6 +260,13 @@ class Hierarchy:
                 raise HierarchyError(
                     f"{node_id!r} stands mid-room, so it must be a node on the floor"
                 )
+        for node_id in sorted(self.facing):
+            anchor = self.functional.get(node_id)
+            if self.support.get(node_id) != FLOOR or anchor is None:
+                raise HierarchyError(
+                    f"{node_id!r} faces its anchor, so it must be a node on the floor with "
+                    "a functional anchor"
+                )
         both = sorted(self.over & self.across)
         if both:
             raise HierarchyError(f"{both[0]!r} cannot hang both over and across from its anchor")
@@ -353,6 +368,7 @@ class Hierarchy:
                         | ({"over": True} if d in self.over else {})
                         | ({"across": True} if d in self.across else {})
                         | ({"mid_room": True} if d in self.mid_room else {})
+                        | ({"facing": True} if d in self.facing else {})
                         for a, d in t.edges
                     ],
                 }
@@ -405,7 +421,7 @@ class Hierarchy:
                     if anchor != root:
                         h.functional[dep] = anchor
                     for key, hung in (("over", h.over), ("across", h.across),
-                                      ("mid_room", h.mid_room)):  # fmt: skip
+                                      ("mid_room", h.mid_room), ("facing", h.facing)):  # fmt: skip
                         flag = e.get(key, False)
                         if not isinstance(flag, bool):
                             raise TypeError(f"{key!r} of {dep!r} is not true or false")
