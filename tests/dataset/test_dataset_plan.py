@@ -82,6 +82,8 @@ def test_mix_and_slices():
         (["--num", "4", "--seed", str(2**32 - 2)], "--seed"),
         (["--num", "4", "--ray-address", "auto"], "--ray-address"),
         (["--num", "4", "--room", "spaceship"], "spaceship"),
+        (["--num", "4", "--mix", "bedroom=1,garage=0"], "--mix: unknown room type 'garage'"),
+        (["--num", "4", "--mix", "garage=1"], "--mix: unknown room type 'garage'"),
     ],
 )
 def test_bad_options_end_in_one_line(args, words, tmp_path, capsys):

@@ -113,7 +113,7 @@ def dataset_command(
         except ImportError:
             raise UserError(RAY_HINT) from None
     out = writable_folder(out, "--out")
-    check_rooms(config)
+    check_rooms(config, mix)
     summary = run_dataset(out, config, executor, jobs, part, ray_address, progress=not quiet)
     for line in summary.lines():
         typer.echo(line)

@@ -215,12 +215,20 @@ def parse_formats(text: str) -> tuple[str, ...]:
     return tuple(f for f in DATASET_FORMATS if f in names or f == "json")
 
 
-def check_rooms(config: DatasetConfig) -> None:
+def check_rooms(config: DatasetConfig, mix: str | None = None) -> None:
     """Every room type of the mix is one the bundled statistics can make (a hierarchy of
-    the first seed is drawn for each: an unknown type is a one-line UserError)."""
-    from pair2scene.hierarchy.build import build_hierarchy
+    the first seed is drawn for each: an unknown type is a one-line UserError), and so is
+    every name of the ``--mix`` text, ``mix``, a share of 0 too (``garage=0`` is a typo
+    or a type that does not exist, not a type left out)."""
+    from pair2scene.hierarchy.build import build_hierarchy, room_key
+    from pair2scene.hierarchy.room_types import composable, unknown_message
     from pair2scene.hierarchy.synthesis import load_stats
 
     stats = load_stats()
+    known = set(stats.room_types) | set(composable(stats))
+    for part in (mix or "").split(","):
+        name = room_key(part.partition("=")[0].strip()) if part.strip() else None
+        if name is not None and name not in known:
+            raise UserError(f"--mix: {unknown_message(stats, name)}")
     for room in config.rooms:
         build_hierarchy(room, None, config.mode, config.max_objects, config.seed, stats, "never")
