@@ -845,15 +845,16 @@ class Placer:
                 continue
             margins = [None]
             seated = seats[node.id] if node.category in SEATED_AT else 0
+            unheld = None  # what a floor object's size must suit, if anything
+            if seated > 1:  # (seats stand on the floor with their anchor)
+                unheld = seats_fit(seated)
+            elif node.id in hierarchy.mid_room:  # an island: a straight run, not an L
+                unheld = mid_room_fit(node.category)
             if held is not None:
                 overhang = self._overhang(node.category, held)
                 margins = [FIT_MARGIN] if overhang is None else [overhang, FIT_MARGIN]
             for k, margin in enumerate(margins):
-                fits = None if margin is None else surface_fit(held, margin)
-                if seated > 1:
-                    fits = seats_fit(seated)
-                elif node.id in hierarchy.mid_room:  # an island: a straight run, not an L
-                    fits = mid_room_fit(node.category)
+                fits = unheld if margin is None else surface_fit(held, margin)
                 asset = self._draw_asset(node.category, item.support, held, fits, rng,
                                          hierarchy.room_type)  # fmt: skip
                 if k + 1 == len(margins) or no_room_on(asset, held) is None:

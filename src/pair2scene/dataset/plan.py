@@ -108,6 +108,21 @@ def parse_mix(
         if not keys:
             raise UserError("give the room types: --room bedroom --room kitchen ... or --mix")
         return tuple((room, 1.0 / len(keys)) for room in keys)
+    weights = mix_weights(text)
+    total = sum(weights.values())
+    if not weights or total <= 0:
+        raise UserError("--mix: give at least one room type with a share > 0")
+    missing = [r for r in keys if r not in weights]
+    if missing:
+        raise UserError(f"--room {', '.join(missing)}: not in --mix (give its share there)")
+    return tuple((room, share / total) for room, share in weights.items() if share > 0)
+
+
+def mix_weights(text: str) -> dict[str, float]:
+    """Room type (normalised) -> share of a ``--mix`` text as written, a share of 0 too;
+    bad input is a one-line UserError."""
+    from pair2scene.hierarchy.build import room_key
+
     weights: dict[str, float] = {}
     for part in text.split(","):
         if not part.strip():
@@ -125,13 +140,7 @@ def parse_mix(
         if room in weights:
             raise UserError(f"--mix: {room} is given twice")
         weights[room] = share
-    total = sum(weights.values())
-    if not weights or total <= 0:
-        raise UserError("--mix: give at least one room type with a share > 0")
-    missing = [r for r in keys if r not in weights]
-    if missing:
-        raise UserError(f"--room {', '.join(missing)}: not in --mix (give its share there)")
-    return tuple((room, share / total) for room, share in weights.items() if share > 0)
+    return weights
 
 
 def room_counts(mix: tuple[tuple[str, float], ...], num: int) -> list[int]:
@@ -218,17 +227,16 @@ def parse_formats(text: str) -> tuple[str, ...]:
 def check_rooms(config: DatasetConfig, mix: str | None = None) -> None:
     """Every room type of the mix is one the bundled statistics can make (a hierarchy of
     the first seed is drawn for each: an unknown type is a one-line UserError), and so is
-    every name of the ``--mix`` text, ``mix``, a share of 0 too (``garage=0`` is a typo
+    every room the ``--mix`` text ``mix`` names, a share of 0 too (``garage=0`` is a typo
     or a type that does not exist, not a type left out)."""
-    from pair2scene.hierarchy.build import build_hierarchy, room_key
+    from pair2scene.hierarchy.build import build_hierarchy
     from pair2scene.hierarchy.room_types import composable, unknown_message
     from pair2scene.hierarchy.synthesis import load_stats
 
     stats = load_stats()
     known = set(stats.room_types) | set(composable(stats))
-    for part in (mix or "").split(","):
-        name = room_key(part.partition("=")[0].strip()) if part.strip() else None
-        if name is not None and name not in known:
+    for name in mix_weights(mix) if mix is not None else ():
+        if name not in known:
             raise UserError(f"--mix: {unknown_message(stats, name)}")
     for room in config.rooms:
         build_hierarchy(room, None, config.mode, config.max_objects, config.seed, stats, "never")

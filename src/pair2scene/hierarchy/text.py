@@ -831,6 +831,18 @@ class _Parser:
                 self._close_cue()
                 self._dispatch(el)
         self._close_cue()
+        self._imply_anchors()
+
+    def _imply_anchors(self) -> None:
+        """A mention whose name implies its anchor (:func:`implied_anchor`) and that the
+        text relates to nothing takes the first mention of that anchor's category as its
+        functional anchor: an implicit relation, which relates nothing already related and
+        closes no cycle (:meth:`_relate`)."""
+        for ref, obj in list(self.objects.items()):
+            category = implied_anchor(obj.phrase)
+            anchor = next((a for a, o in self.objects.items() if o.category == category), None)
+            if anchor is not None:
+                self._relate(FUNCTIONAL, ref, anchor, False, explicit=False)
 
     def spec(self, text: str) -> TextSpec:
         """The frozen result."""
@@ -1331,7 +1343,7 @@ def parse_text(text: str) -> TextSpec:
     elements = _elements(text, _tokens(text))
     parser = _Parser(_named_room(elements))
     parser.run(elements)
-    spec = _implied_relations(replace(parser.spec(text), notes=tuple(notes)))
+    spec = replace(parser.spec(text), notes=tuple(notes))
     if spec.room_type is None and not spec.mentions:
         shown = " ".join(text.split())
         shown = shown if len(shown) <= 60 else shown[:57] + "..."
@@ -1359,37 +1371,6 @@ def implied_anchor(phrase: str) -> str | None:
     "two nightstands" -> ``bed``), or None."""
     name = _names(phrase, IMPLIED_ANCHORS)
     return None if name is None else IMPLIED_ANCHORS[name]
-
-
-def _implied_relations(spec: TextSpec) -> TextSpec:
-    """``spec`` with a functional relation for every mention whose name implies its anchor
-    (:func:`implied_anchor`) and that the text relates to nothing, to the first mention of
-    that anchor's category (none when that one is placed relative to it already)."""
-    related = {r.dependent for r in spec.relations}
-    anchors_of: dict[str, set[str]] = {}
-    for r in spec.relations:
-        anchors_of.setdefault(r.dependent, set()).add(r.anchor)
-
-    def depends_on(ref: str, other: str) -> bool:
-        seen, todo = set(), [ref]
-        while todo:
-            at = todo.pop()
-            if at == other:
-                return True
-            if at not in seen:
-                seen.add(at)
-                todo.extend(anchors_of.get(at, ()))
-        return False
-
-    added = []
-    for m in spec.mentions:
-        category = implied_anchor(m.phrase) if m.ref not in related else None
-        anchor = next((a for a in spec.mentions if a.category == category), None)
-        if anchor is None or anchor.ref == m.ref or depends_on(anchor.ref, m.ref):
-            continue
-        added.append(Relation(FUNCTIONAL, m.ref, anchor.ref, each=False))
-        anchors_of.setdefault(m.ref, set()).add(anchor.ref)
-    return replace(spec, relations=spec.relations + tuple(added)) if added else spec
 
 
 def category_of(phrase: str) -> str | None:

@@ -126,8 +126,9 @@ class Hierarchy:
     facing: set[str] = field(default_factory=set)
     """Floor nodes that face their functional anchor, a floor object, from in front of it
     ("two sofas facing each other"); placement rejects a candidate that does not face the
-    anchor or stands off its front (``faces_away``, ``not_in_front``) or more than
-    :data:`~pair2scene.assembly.place.FACING_GAP_M` from it. Without this, the training
+    anchor or stands off its front (``faces_away``, ``not_in_front``), nearer than
+    :data:`~pair2scene.assembly.place.FACING_MIN_GAP_M` to it or farther than
+    :data:`~pair2scene.assembly.place.FACING_GAP_M`. Without this, the training
     rooms' pairs decide how a floor object stands at its anchor."""
 
     # -- building -------------------------------------------------------------------------
@@ -339,6 +340,12 @@ class Hierarchy:
 
     # -- JSON -----------------------------------------------------------------------------
 
+    def edge_flags(self) -> tuple[tuple[str, set[str]], ...]:
+        """The flags a functional edge of the JSON may carry (``"over": true``), each with
+        the set of dependents it marks."""
+        return (("over", self.over), ("across", self.across), ("mid_room", self.mid_room),
+                ("facing", self.facing))  # fmt: skip
+
     def to_dict(self, **extra) -> dict:
         """The hierarchy as JSON types: nodes, support_tree, functional_trees, sequence."""
         cat = {n.id: n.category for n in self.nodes}
@@ -365,10 +372,7 @@ class Hierarchy:
                     "support_anchor": ref(t.support),
                     "edges": [
                         {"anchor": ref(a), "dependent": ref(d)}
-                        | ({"over": True} if d in self.over else {})
-                        | ({"across": True} if d in self.across else {})
-                        | ({"mid_room": True} if d in self.mid_room else {})
-                        | ({"facing": True} if d in self.facing else {})
+                        | {key: True for key, marked in self.edge_flags() if d in marked}
                         for a, d in t.edges
                     ],
                 }
@@ -420,13 +424,12 @@ class Hierarchy:
                     anchor, dep = _text(_ref_id(e["anchor"])), _text(_ref_id(e["dependent"]))
                     if anchor != root:
                         h.functional[dep] = anchor
-                    for key, hung in (("over", h.over), ("across", h.across),
-                                      ("mid_room", h.mid_room), ("facing", h.facing)):  # fmt: skip
+                    for key, marked in h.edge_flags():
                         flag = e.get(key, False)
                         if not isinstance(flag, bool):
                             raise TypeError(f"{key!r} of {dep!r} is not true or false")
                         if flag:
-                            hung.add(dep)
+                            marked.add(dep)
         except (KeyError, TypeError, AttributeError, ValueError) as e:
             msg = f"{where}: malformed hierarchy ({type(e).__name__}: {_short(str(e))})"
             raise HierarchyError(msg) from None
