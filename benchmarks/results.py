@@ -124,6 +124,7 @@ LAYOUT = (
     ("layout", "tables_with_a_chair", "tables with a chair"),
     ("layout", "tables_seating_four", "tables seating 4+"),
     ("layout", "sofas_facing_tv", "sofa faces TV"),
+    ("layout", "sofas_with_coffee_table", "coffee table at sofa"),
     ("layout", "nightstands_at_bed_head", "nightstand at bed"),
     ("layout", "floor_overlaps", "over/under another"),
     ("layout", "floor_askew", "turned off the walls"),
@@ -250,6 +251,8 @@ def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) 
 def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: list[str]) -> None:
     from pair2scene.io.atomic import atomic_write_text
 
+    manifest = json.loads((a.pairs / "manifest.json").read_text())
+    tuples = f"3D-Pairs v{manifest['version']}, {manifest['count']:,} tuples"
     lines = [
         "# Results",
         "",
@@ -258,7 +261,7 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
         "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
-        "(3D-Pairs v3, 18,507 tuples; the bundled model was trained on them, 40 epochs); "
+        f"({tuples}; the bundled model was trained on them, 40 epochs); "
         "VARIANTS holds `pair2scene train --variant V` checkpoints, trained on the same PAIRS "
         "(`pair2scene train --data PAIRS --out VARIANTS/V --variant V`, as `--train-missing` "
         "does; the cpu preset: `class-only` and `global` 40 epochs, `no-pretrain` 2).",

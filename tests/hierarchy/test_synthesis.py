@@ -19,6 +19,7 @@ from pair2scene.hierarchy.llm import hierarchy_from_llm, hierarchy_from_reply
 from pair2scene.hierarchy.synthesis import (
     Statistics,
     SynthesisConfig,
+    anchor_first,
     capacity,
     floor_budget,
     furnished,
@@ -167,8 +168,16 @@ def test_bad_requests_are_user_errors(stats, tmp_path):
 def test_fit_rooms_are_furnished(stats):
     """The bundled bedrooms include one with no furniture and ones with one or two
     objects; drawn independently, template and count gave empty rooms (seed 34) and
-    one-piece ones. A room holds its drawn furniture, never nothing."""
+    one-piece ones. A room holds its drawn furniture, never nothing. (A curation's bedrooms
+    need not hold an unfurnished one nor one of 1-2 objects: they are added, as likely as
+    all the others.)"""
     bedroom = stats.room_types["bedroom"]
+    bare = Counter({("painting@wall",): sum(bedroom.layouts.values())})
+    few = Counter({n: sum(bedroom.object_counts.values()) for n in (1, 2)})
+    bedroom = replace(
+        bedroom, layouts=bedroom.layouts + bare, object_counts=bedroom.object_counts + few
+    )
+    stats = replace(stats, room_types={**stats.room_types, "bedroom": bedroom})
     assert not all(map(furnished, bedroom.layouts))  # what is guarded: no floor furniture
     assert min(bedroom.object_counts) <= 3  # and rooms of a few objects
     for seed in range(60):
@@ -363,6 +372,55 @@ def test_a_templates_chairs_sit_at_its_table_as_in_its_rooms():
             seated[own][sum(1 for a in h.functional.values() if a == "dining_table_0")] += 1
     assert set(seated[True]) == {0, 4} and min(seated[True].values()) > 60, seated[True]
     assert sum(seated[False][k] for k in (1, 2, 3)) > 100, seated[False]
+
+
+def _lounges(cycle: bool = False) -> HierarchyStats:
+    """Six living rooms, each a sofa, a coffee table at it and an armchair at the table
+    (``cycle``: and a side table at the armchair, which in a second pattern anchors it)."""
+    from pair2scene.scene.geometry import OrientedBox
+    from pair2scene.scene.model import Room, Scene, SceneObject
+
+    floor = np.array([[0, 0], [5, 0], [5, 5], [0, 5]], float)
+    box = OrientedBox.from_yaw([1, 1, 0.4], [0.5, 0.5, 0.8])
+    rooms = []
+    for i in range(6):
+        objects = [
+            SceneObject("s", "sofa", box, None, FLOOR, None),
+            SceneObject("c", "coffee_table", box, None, FLOOR, "s"),
+            SceneObject("a", "armchair", box, None, FLOOR, "c"),
+        ]
+        if cycle:
+            turned = i % 2
+            objects += [SceneObject("t", "side_table", box, None, FLOOR, None if turned else "a")]
+            if turned:
+                objects[2] = SceneObject("a", "armchair", box, None, FLOOR, "t")
+        rooms.append(Scene(f"r{i}", Room("living_room", floor), objects, split="train"))
+    return HierarchyStats.fit(rooms)
+
+
+def test_a_template_adds_each_object_after_its_anchor():
+    """A coffee table is added after the sofa it stands at, whatever their names' order,
+    so it can take it as its anchor (in name order it came first and never stood at the
+    sofa). The armchair comes after the table but takes none: a dependent anchors nothing
+    in a drawn hierarchy (one level, as placement draws it)."""
+    stats = _lounges()
+    order = anchor_first(["armchair", "coffee_table", "sofa", "house_plant"], Statistics(stats))
+    assert order == ["sofa", "house_plant", "coffee_table", "armchair"]
+    for seed in range(20):
+        h = synthesize(stats, "living_room", SynthesisConfig(seed=seed))
+        assert h.functional == {"coffee_table_0": "sofa_0"}
+
+
+def test_categories_anchoring_each_other_are_still_ordered():
+    """armchair <- side_table and side_table <- armchair in the statistics: the order is
+    cut where the cycle closes, every category listed once, same order every call."""
+    st = Statistics(_lounges(cycle=True))
+    floor = st.stats.func_dep[FLOOR]
+    assert floor["armchair"]["side_table"] and floor["side_table"]["armchair"]
+    cats = ["side_table", "armchair", "coffee_table", "sofa"]
+    order = anchor_first(cats, st)
+    assert sorted(order) == sorted(cats) and order == anchor_first(cats[::-1], st)
+    assert order.index("sofa") < order.index("coffee_table") < order.index("armchair")
 
 
 def test_a_full_room_cuts_its_draws_at_random_not_in_queue_order(stats):

@@ -23,6 +23,7 @@ from pair2scene.metrics.layout import (
     nightstands_at_bed_head,
     on_floor,
     sofas_facing_tv,
+    sofas_with_coffee_table,
 )
 from pair2scene.scene.geometry import OrientedBox
 from pair2scene.scene.model import FLOOR, Room, Scene, SceneObject
@@ -201,6 +202,23 @@ def test_a_sofa_facing_the_tv_stand_and_one_facing_away():
     tv = obj("tv2", "television", [3.95, 2], [1.0, 0.05, 0.6], yaw=WEST, support=None, z=1.2)
     east = obj("s3", "sofa", [2.2, 2], [2.0, 0.9, 0.8], yaw=EAST)
     assert sofas_facing_tv(room(tv, east, away, kind="living_room")) == [1, 2]
+
+
+def test_a_coffee_table_in_front_of_one_sofa_behind_another_and_too_far():
+    """A sofa against the south wall facing north (front +y): a table 1.0 m ahead of its
+    front counts; the same table is behind a sofa facing south, and 2.6 m ahead of a
+    third; past a sofa's end by more than 0.3 m it is beside, not in front."""
+    table = obj("t", "coffee_table", [2, 2], [1.0, 0.6, 0.45])
+    north = obj("s1", "sofa", [2, 0.55], [2.0, 0.9, 0.8], yaw=NORTH)  # front at y = 1.0
+    south = obj("s2", "sofa", [2, 1.0], [2.0, 0.9, 0.8], yaw=SOUTH)  # table behind it
+    assert sofas_with_coffee_table(room(table, north, kind="living_room")) == [1, 1]
+    assert sofas_with_coffee_table(room(table, south, kind="living_room")) == [0, 1]
+    far = obj("t2", "coffee_table", [2, 3.65], [1.0, 0.6, 0.45])  # 2.65 m ahead
+    assert sofas_with_coffee_table(room(far, north, kind="living_room")) == [0, 1]
+    aside = obj("t3", "coffee_table", [3.4, 1.6], [0.5, 0.5, 0.45])  # 0.4 m past its end
+    assert sofas_with_coffee_table(room(aside, north, kind="living_room")) == [0, 1]
+    assert sofas_with_coffee_table(room(north, kind="living_room")) == [0, 0]  # no table
+    assert layout_measures(room(table, north, south))["sofas_with_coffee_table"] == [1, 2]
 
 
 # -- nightstands -----------------------------------------------------------------------

@@ -58,6 +58,7 @@ from pair2scene.hierarchy.synthesis import (
     Statistics,
     SynthesisConfig,
     add_floor_furniture,
+    anchor_depths,
     expand,
     extra_furniture,
     load_stats,
@@ -108,8 +109,11 @@ def key_furniture(rs) -> str | None:
     return max(sorted(hist), key=lambda c: rs.rooms - hist[c].get(0, 0))
 
 
-def _order(spec: TextSpec) -> list:
-    """Mentions with every anchor before its dependents; a cycle is a HierarchyError."""
+def _order(spec: TextSpec, st: Statistics) -> list:
+    """Mentions with every anchor before its dependents; a cycle is a HierarchyError. The
+    text's relations first, then the statistics' (:func:`anchor_depths`): in "two chairs
+    and a dining table" the table is added first, so the chairs can take it as their
+    anchor; else in the text's order."""
     anchors: dict[str, set[str]] = {m.ref: set() for m in spec.mentions}
     for r in spec.relations:
         anchors[r.dependent].add(r.anchor)
@@ -128,7 +132,8 @@ def _order(spec: TextSpec) -> list:
         done.add(ref)
         out.append(by_ref[ref])
 
-    for m in spec.mentions:
+    depth = anchor_depths([m.category for m in spec.mentions], st)
+    for m in sorted(spec.mentions, key=lambda m: depth[m.category]):
         visit(m.ref)
     return out
 
@@ -173,7 +178,7 @@ def hierarchy_from_spec(
         template = template[:MAX_OBJECTS_LIMIT]  # (statistics of your own: any template)
         add_floor_furniture(h, template, st, rng)
 
-    for m in _order(spec):
+    for m in _order(spec, st):
         if m.count > MAX_COUNT:
             h.notes.append(f"{m.phrase!r}: count capped at {MAX_COUNT}")
             m = replace(m, count=MAX_COUNT)

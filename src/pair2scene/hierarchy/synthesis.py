@@ -45,7 +45,7 @@ statistics, same hierarchy.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -316,15 +316,37 @@ def _stochastic_round(x: float, rng: np.random.Generator) -> int:
     return whole + int(rng.random() < x - whole)
 
 
-def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
-    """Template order: categories that serve as functional anchors on the floor first
-    (tables before the chairs at them), then by name; stable for equal keys."""
+def anchor_depths(categories: Iterable[str], stats: Statistics) -> dict[str, int]:
+    """category -> how many floor anchors stand above it among ``categories``: 0 for one
+    that takes none of them as a functional anchor on the floor, else one more than its
+    deepest anchor's (a sofa 0, the coffee table in front of it 1). A cycle of categories
+    anchoring each other is cut where it closes, walked in name order, so the depths do
+    not depend on the order given."""
     floor_anchors = stats.stats.func_dep.get(FLOOR, {})
+    present = sorted(set(categories))
+    depth: dict[str, int] = {}
 
-    def key(c: str) -> tuple[int, str]:
-        return (0 if c in floor_anchors else 1, c)
+    def level(c: str, seen: frozenset[str]) -> int:
+        if c not in depth:
+            seen = seen | {c}
+            above = [a for a in present if a not in seen and floor_anchors.get(a, {}).get(c)]
+            depth[c] = max((level(a, seen) + 1 for a in above), default=0)
+        return depth[c]
 
-    return sorted(categories, key=key)
+    for c in present:
+        level(c, frozenset())
+    return depth
+
+
+def anchor_first(categories: list[str], stats: Statistics) -> list[str]:
+    """Template order: each category after the categories present that it takes a
+    functional anchor among (:func:`anchor_depths`: a sofa before the coffee table in
+    front of it, a table before the chairs at it), anchors before the rest at the same
+    depth, then by name. A category is added once its anchors stand, so it can take one
+    (in name order alone a coffee table came before its sofa and never stood at it)."""
+    floor_anchors = stats.stats.func_dep.get(FLOOR, {})
+    depth = anchor_depths(categories, stats)
+    return sorted(categories, key=lambda c: (depth[c], 0 if c in floor_anchors else 1, c))
 
 
 def add_floor_furniture(

@@ -27,6 +27,9 @@ rooms, so the figures compare directly.
 - ``sofas_facing_tv``: sofas in a room with a television or a TV stand (:data:`SCREENS`)
   whose front points at one of them (angle to the direction of its centre below
   :data:`FACING_MAX_DEG`).
+- ``sofas_with_coffee_table``: sofas in a room with a coffee table that have one in front
+  of them (:func:`in_front`, within :data:`COFFEE_TABLE_FRONT_M`). The training rooms:
+  0.88 of 25 sofas, the val rooms 0.71 of 7 (AI2-THOR + ProcTHOR-1k living rooms).
 - ``nightstands_at_bed_head``: nightstands (side tables, :data:`NIGHTSTANDS`) in a room
   with a bed, that stand beside the head end of a bed (:func:`beside_bed_head`).
 - ``floor_overlaps``: floor objects standing over or under another floor object's
@@ -102,6 +105,11 @@ SEATS_FOUR = 4
 """Chairs at a table that make it a full one (``tables_seating_four``)."""
 SCREENS = ("television", "tv_stand")
 """What a sofa faces: the television, or its stand when the room has no TV object."""
+COFFEE_TABLE_FRONT_M = 2.0
+"""How far ahead of a sofa's front a coffee table's centre may stand to be in front of it:
+the training rooms' stood 0.6-1.6 m from the sofa's box in 24 of the 29 in front."""
+FRONT_SIDE_M = 0.3
+"""... and how far past the sofa's ends, sideways."""
 NIGHTSTANDS = ("side_table",)
 """Nightstands: the canonical vocabulary files them under ``side_table``; in a room with
 a bed, every side table is looked at."""
@@ -135,6 +143,7 @@ MEASURES = (
     "tables_with_a_chair",
     "tables_seating_four",
     "sofas_facing_tv",
+    "sofas_with_coffee_table",
     "nightstands_at_bed_head",
     "floor_overlaps",
     "floor_askew",
@@ -235,6 +244,27 @@ def sofas_facing_tv(scene: Scene) -> list[int]:
     return [int(facing), len(sofas)]
 
 
+def in_front(box: OrientedBox, point: np.ndarray, reach: float, side: float) -> bool:
+    """Whether ``point``'s (xy) lies ahead of ``box``'s front, by at most ``reach``, and
+    beside it by at most ``side`` past either end (in the box's frame: +y its front)."""
+    local = box.to_local(np.append(np.asarray(point, float)[:2], box.center[2])[None])[0]
+    half = box.half_size
+    return bool(0.0 < local[1] - half[1] <= reach and abs(local[0]) <= half[0] + side)
+
+
+def sofas_with_coffee_table(scene: Scene) -> list[int]:
+    """[with a coffee table in front, sofas in a room that has a coffee table]."""
+    floor = _floor_objects(scene)
+    tables = [o.box.center for o in floor if o.category == "coffee_table"]
+    if not tables:
+        return [0, 0]
+    sofas = [o.box for o in floor if o.category == "sofa"]
+    near = sum(
+        any(in_front(s, t, COFFEE_TABLE_FRONT_M, FRONT_SIDE_M) for t in tables) for s in sofas
+    )
+    return [int(near), len(sofas)]
+
+
 def nightstands_at_bed_head(scene: Scene) -> list[int]:
     """[beside the head end of a bed, nightstands in a room with a bed]."""
     floor = _floor_objects(scene)
@@ -311,6 +341,7 @@ def layout_measures(scene: Scene) -> dict[str, list[int]]:
         "tables_with_a_chair": [sum(n > 0 for n in seats), len(seats)],
         "tables_seating_four": [sum(n >= SEATS_FOUR for n in seats), len(seats)],
         "sofas_facing_tv": sofas_facing_tv(scene),
+        "sofas_with_coffee_table": sofas_with_coffee_table(scene),
         "nightstands_at_bed_head": nightstands_at_bed_head(scene),
         "floor_overlaps": floor_overlaps(scene),
         "floor_askew": floor_askew(scene),
