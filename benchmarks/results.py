@@ -253,6 +253,15 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
 
     manifest = json.loads((a.pairs / "manifest.json").read_text())
     tuples = f"3D-Pairs v{manifest['version']}, {manifest['count']:,} tuples"
+    from pair2scene.model.checkpoint import CONFIG_FILE, DEFAULT_DIR
+
+    seen = json.loads((DEFAULT_DIR / CONFIG_FILE).read_text())["training"]["data"]
+    bundled = seen["train_tuples"] + seen["val_tuples"]
+    trained = (
+        "the bundled model was trained on them, 40 epochs"
+        if bundled == manifest["count"]
+        else f"the bundled model was trained on the {bundled:,} of an earlier curation, 40 epochs"
+    )
     lines = [
         "# Results",
         "",
@@ -261,7 +270,7 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         "(seeds 0..N-1) evaluated by `pair2scene evaluate` against the AI2-THOR val rooms and "
         "the ProcTHOR-1k val rooms of the same type. PAIRS is `pair2scene curate --source "
         "ai2thor --source procthor:train.jsonl.gz --source procthor:val.jsonl.gz --out PAIRS` "
-        f"({tuples}; the bundled model was trained on them, 40 epochs); "
+        f"({tuples}; {trained}); "
         "VARIANTS holds `pair2scene train --variant V` checkpoints, trained on the same PAIRS "
         "(`pair2scene train --data PAIRS --out VARIANTS/V --variant V`, as `--train-missing` "
         "does; the cpu preset: `class-only` and `global` 40 epochs, `no-pretrain` 2).",
