@@ -223,12 +223,9 @@ def hierarchy_from_reply(reply: dict) -> Hierarchy:
                     f"{LLM_FLOOR} or hang on that wall, but {anchor!r} rests on {below!r}"
                 )
             h.functional[dep] = anchor
-            if e.get("facing", False):
-                h.facing.add(dep)  # (validate: on the Floor, its anchor too)
-            if e.get("over", False):
-                h.over.add(dep)  # (validate: on a wall, over an object on the Floor)
-            if e.get("across", False):
-                h.across.add(dep)  # (validate: the same, and not both)
+            for key, marked in h.edge_flags():  # (validate checks where each may be)
+                if key != "mid_room" and e.get(key, False):  # (mid_room: above, anchored or not)
+                    marked.add(dep)
     return h.validate()
 
 

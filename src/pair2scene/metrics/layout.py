@@ -245,11 +245,12 @@ def sofas_facing_tv(scene: Scene) -> list[int]:
 
 
 def in_front(box: OrientedBox, point: np.ndarray, reach: float, side: float) -> bool:
-    """Whether ``point``'s (xy) lies ahead of ``box``'s front, by at most ``reach``, and
-    beside it by at most ``side`` past either end (in the box's frame: +y its front)."""
-    local = box.to_local(np.append(np.asarray(point, float)[:2], box.center[2])[None])[0]
-    half = box.half_size
-    return bool(0.0 < local[1] - half[1] <= reach and abs(local[0]) <= half[0] + side)
+    """Whether ``point`` (3,) lies ahead of ``box``'s front, by at most ``reach``, and
+    beside it by at most ``side`` past either end (in the box's frame: +y its front; its
+    height is not looked at)."""
+    x, y, _ = box.to_local(np.asarray(point, float)[None])[0]
+    hw, hd = box.half_size[0], box.half_size[1]
+    return bool(0.0 < y - hd <= reach and abs(x) <= hw + side)
 
 
 def sofas_with_coffee_table(scene: Scene) -> list[int]:
