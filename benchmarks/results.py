@@ -248,6 +248,28 @@ def sheet(room: str, names: list[str], a: argparse.Namespace, per_row: int = 6) 
     return out.name
 
 
+def variant_epochs(variants: Path) -> str:
+    """How long each variant of ``variants`` trained: "`global` 40 epochs (best 38)", or
+    "`no-pretrain` 1 of the preset's 2 epochs" for a run stopped early. The checkpoint's
+    config.json is written at each best epoch; the epochs run are in its training state
+    (``train_state.json``), when kept."""
+    parts = []
+    for v in VARIANTS:
+        try:
+            training = json.loads((variants / v / "config.json").read_text())["training"]
+            planned, best = int(training["epochs"]), int(training["best_epoch"])
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+        try:
+            state = json.loads((variants / v / "train_state.json").read_text())
+            done = len(state["history"])
+        except (OSError, ValueError, KeyError, TypeError):
+            done = len(training.get("history", ())) or best
+        of = "" if done == planned else f" of the preset's {planned}"
+        parts.append(f"`{v}` {done}{of} epochs" + (f" (best {best})" if best != done else ""))
+    return ", ".join(parts) or "no variant checkpoints"
+
+
 def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: list[str]) -> None:
     from pair2scene.io.atomic import atomic_write_text
 
@@ -273,7 +295,7 @@ def write_doc(results: dict, described: dict, a: argparse.Namespace, skipped: li
         f"({tuples}; {trained}); "
         "VARIANTS holds `pair2scene train --variant V` checkpoints, trained on the same PAIRS "
         "(`pair2scene train --data PAIRS --out VARIANTS/V --variant V`, as `--train-missing` "
-        "does; the cpu preset: `class-only` and `global` 40 epochs, `no-pretrain` 2).",
+        f"does; the cpu preset; {variant_epochs(a.variants)}).",
         "",
         "Columns: mesh-level collision rate and floating rate (share of objects; lower is "
         "better), stability (share of simulated objects that move < 2 cm in 2 s of MuJoCo; "

@@ -73,7 +73,8 @@ def test_statistics_learn_facing_shares_gaps_and_who_stood_beside_an_anchor():
     # chairs beside a table: all 5 per room (the lone one too); the armchair as well
     assert stats.func_present[FLOOR]["dining_table"]["chair"] == 20
     assert stats.func_present[FLOOR]["dining_table"]["armchair"] == 4
-    assert stats.func_present[FLOOR]["chair"]["chair"] == 20  # another chair beside each
+    # another chair beside each, but those at the table were not free to take a chair
+    assert stats.func_present[FLOOR]["chair"]["chair"] == 4
     back = HierarchyStats.from_json(stats.to_json())
     learned = [16, 15, 8, total, squares, 8]
     assert back.func_geometry["chair"]["dining_table"] == pytest.approx(learned)
@@ -112,6 +113,35 @@ def test_a_chair_takes_the_table_as_anchor_as_often_as_chairs_beside_tables_did(
                                                 np.random.default_rng(s)) is not None
             for s in range(2000)]  # fmt: skip
     assert np.mean(took) == pytest.approx(16 / 36, abs=0.03)
+
+
+def test_a_chair_at_the_dining_table_does_not_count_against_the_desk():
+    """Rooms with a dining table and a desk: four chairs at the table, one at the desk;
+    one room with a desk alone and a chair standing free. Of the chairs free to take the
+    desk, 4 of 5 did; counting the table's chairs beside the desk too made it 4 of 21,
+    and a new chair in a room with only a desk sat at it once in five."""
+    desk = OrientedBox.from_yaw([5.3, 4.6, 0.375], [1.2, 0.6, 0.75], np.pi)
+    at_desk = OrientedBox.from_yaw([5.3, 3.9, 0.45], [0.5, 0.5, 0.9], 0.0)
+    scenes = []
+    for i in range(4):
+        room = _dining(i)
+        objects = [o for o in room.objects if o.id not in ("chair_9", "armchair_0")]
+        objects += [SceneObject("desk_0", "desk", desk, None, FLOOR),
+                    SceneObject("chair_8", "chair", at_desk, None, FLOOR,
+                                functional_anchor="desk_0")]  # fmt: skip
+        scenes.append(Scene(f"d{i}", ROOM, objects))
+    free = OrientedBox.from_yaw([1.0, 1.0, 0.45], [0.5, 0.5, 0.9], 0.0)
+    alone = [SceneObject("desk_0", "desk", desk, None, FLOOR),
+             SceneObject("chair_0", "chair", free, None, FLOOR)]  # fmt: skip
+    scenes.append(Scene("free", ROOM, alone))
+    stats = HierarchyStats.fit(scenes)
+    assert stats.func_present[FLOOR]["desk"]["chair"] == 5
+    assert stats.func_present[FLOOR]["dining_table"]["chair"] == 16
+    h = Hierarchy("bedroom")
+    st = Statistics(stats)
+    took = [st.functional_choice(FLOOR, "chair", [h.add("desk", FLOOR)], np.random.default_rng(s))
+            is not None for s in range(2000)]  # fmt: skip
+    assert np.mean(took) == pytest.approx(4 / 5, abs=0.03)
 
 
 class _Chairs:

@@ -126,6 +126,6 @@ def test_the_printed_hierarchy_marks_mid_room_over_and_across(capsys):
             "the sofa and a coffee table in the middle of the room")  # fmt: skip
     assert main(["hierarchy", "--text", text, "--llm", "never"]) == 0
     lines = [line.strip() for line in capsys.readouterr().out.splitlines()]
-    assert "- coffee_table_0  [mid-room]" in lines
+    assert "- coffee_table_0  [at sofa_0]  [mid-room]" in lines  # named both: at the sofa
     assert "- painting_0  [over sofa_0]" in lines
     assert "- television_0  [across from sofa_0]" in lines

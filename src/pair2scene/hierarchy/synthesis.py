@@ -273,10 +273,11 @@ class Statistics:
 
         Whether it gets one at all is conditioned on what stands there: with ``r_a`` the
         share of ``category`` objects that took an ``a`` as their anchor among those
-        beside an ``a`` in the training rooms, the chance is ``1 - prod(1 - r_a)`` over
-        the siblings' categories (a chair in a room with a dining table: 0.9 and more,
-        where the share over all chairs, tables or not, was 0.75). Statistics without
-        those counts fall back to the share over all ``category`` objects."""
+        beside an ``a`` in the training rooms that took no other category's
+        (``func_present``), the chance is ``1 - prod(1 - r_a)`` over the siblings'
+        categories (a chair in a room with a dining table: 0.9 and more, where the share
+        over all chairs, tables or not, was 0.75). Statistics without those counts fall
+        back to the share over all ``category`` objects."""
         if shares is not None:
             present = Counter(s.category for s in siblings)
             weights = [shares.get(s.category, 0.0) / present[s.category] for s in siblings]
