@@ -213,6 +213,7 @@ def hierarchy_from_spec(
                     h.notes.append(f"on a wall: {nodes[-1].id} by {a.id}")
         else:
             implied = implied_anchor(m.phrase)  # the room's bed for "two nightstands"
+            named_ids = {n.id for ns in instances.values() for n in ns}  # earlier mentions'
             for k in range(_room_for(h, m, m.count)):
                 if len(h) >= MAX_OBJECTS_LIMIT:  # (a holder added for the object took it)
                     h.notes.append(f"{m.phrase!r}: not all added, {MAX_OBJECTS_LIMIT} objects")
@@ -220,7 +221,6 @@ def hierarchy_from_spec(
                 support = _default_support(h, st, m.category, rng, avoid)
                 siblings = [n for n in h.children(support) if n.id not in h.functional]
                 on = h.by_id()[support].category if support != FLOOR else FLOOR
-                named_ids = {n.id for ns in instances.values() for n in ns}
                 at = [n for n in siblings if n.category == implied] or _named_anchors(
                     st, on, m.category, siblings, named_ids
                 )
